@@ -1,0 +1,70 @@
+/*
+** Diagnostics: source files, locations, and compiler-style messages
+**
+**   file:line:col: error: message
+**      12 |   lines { widht 2; }
+**         |           ^~~~~
+**
+** Every stage reports through here. Messages are collected (capped at
+** DIAG_MAX_ERRORS errors) and printed as they arrive, as text or as JSON
+** lines for editors.
+*/
+#ifndef lang_diag_h
+#define lang_diag_h
+
+#include <stddef.h>
+
+/* A source range. file indexes the table of loaded sources (diag_file);
+** line and col are 1-based and count characters, not bytes; the range ends
+** just after (end_line, end_col). file = -1 means "no location". */
+typedef struct SrcRange {
+  int file;
+  int line, col;
+  int end_line, end_col;
+} SrcRange;
+
+typedef struct SrcFile {
+  char *name;          /* as given on the command line or the include path */
+  char *text;          /* whole contents, NUL-terminated (may hold NULs: use len) */
+  size_t len;
+  int *line_start;     /* byte offset of each line's first byte */
+  int nlines;
+  int included_from;   /* file index of the includer, -1 for the main file */
+  SrcRange include_loc;/* where the include statement is */
+} SrcFile;
+
+typedef enum { DIAG_ERROR, DIAG_WARNING, DIAG_NOTE } DiagSeverity;
+typedef enum { DIAG_TEXT, DIAG_JSON } DiagFormat;
+
+/* Errors past this many are not printed; "too many errors" is said once. */
+#define DIAG_MAX_ERRORS 20
+
+void diag_init(DiagFormat format);
+void diag_shutdown(void);   /* frees every loaded source */
+
+/* Register a source file; takes ownership of text (malloc'd, len bytes plus
+** a NUL). Returns its index. */
+int diag_add_file(const char *name, char *text, size_t len, int included_from, SrcRange include_loc);
+const SrcFile *diag_file(int index);
+/* Read a file ("-" is standard input) and register it. Returns its index,
+** or -1 with *why set to a static reason (strerror, "is a directory"). */
+int diag_load_file(const char *path, int included_from, SrcRange include_loc, const char **why);
+int diag_file_count(void);
+
+/* Report a diagnostic. fmt is printf-style. A note attaches to the message
+** before it. */
+void diag_report(DiagSeverity sev, SrcRange at, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+#define diag_error(at, ...) diag_report(DIAG_ERROR, (at), __VA_ARGS__)
+#define diag_warning(at, ...) diag_report(DIAG_WARNING, (at), __VA_ARGS__)
+#define diag_note(at, ...) diag_report(DIAG_NOTE, (at), __VA_ARGS__)
+
+int diag_error_count(void);
+int diag_warning_count(void);
+int diag_too_many(void);      /* the cap was reached: callers may stop early */
+
+/* Location helpers */
+SrcRange src_none(void);
+SrcRange src_join(SrcRange a, SrcRange b);   /* from a's start to b's end */
+
+#endif

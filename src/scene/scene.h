@@ -1,0 +1,163 @@
+/*
+** The evaluated scene: plain C structs, no AST pointers. The evaluator
+** (src/lang/eval.c) fills it; the prepare and render stages read it.
+** Every entity keeps the source location it came from so later stages can
+** still point at the script in a diagnostic.
+**
+** Colours are linear RGBA (sRGB literals are converted on evaluation).
+** Everything here lives in Scene.arena and is freed with scene_free().
+*/
+#ifndef scene_scene_h
+#define scene_scene_h
+
+#include "../base/mem.h"
+#include "../base/vec.h"
+#include "../lang/diag.h"
+
+typedef struct Color { float r, g, b, a; } Color;
+
+typedef struct SceneOutput {
+  int width, height;          /* 0 = not set (defaults to 640x480) */
+  int samples;                /* N x N samples a pixel, >= 1 */
+  Color background;
+  const char *sheet;          /* paper under everything, or NULL */
+  SrcRange loc;
+} SceneOutput;
+
+typedef enum { CAMERA_PERSPECTIVE, CAMERA_ORTHO } CameraKind;
+
+typedef struct SceneCamera {
+  int present;                /* 0: frame automatically */
+  CameraKind kind;
+  Vec3 position, look_at, up; /* up defaults to +z */
+  double fov;                 /* vertical, degrees (perspective) */
+  double ortho_height;        /* scene units shown vertically (ortho) */
+  SrcRange loc;
+} SceneCamera;
+
+typedef enum { LIGHT_POINT, LIGHT_DIRECTIONAL } LightKind;
+typedef enum { FALLOFF_NONE, FALLOFF_INVERSE_SQUARE } LightFalloff;
+
+typedef struct SceneLight {
+  LightKind kind;
+  Vec3 position;              /* LIGHT_POINT */
+  Vec3 direction;             /* LIGHT_DIRECTIONAL: the way the rays travel */
+  Color color;
+  double strength;
+  LightFalloff falloff;
+  SrcRange loc;
+} SceneLight;
+
+/* ---- styles ---------------------------------------------------------- */
+
+typedef enum {
+  SHADE_NONE, SHADE_FLAT, SHADE_GOURAUD, SHADE_PHONG, SHADE_TOON,
+  SHADE_THRESHOLD, SHADE_BOKASHI, SHADE_INK, SHADE_ORIGAMI
+} ShadeKind;
+
+typedef struct ShadeToon {
+  int bands;                  /* K >= 2 tones: T_n with n = K - 1 */
+  double threshold;           /* t in T_n */
+  Color *ramp; int nramp;     /* diffuse ramp; replaces bands when nramp > 0 */
+  Color *specular_ramp; int nspecular_ramp;
+  double specular, shininess;
+  int specular_bands;
+  double specular_threshold;
+  double ambient;
+  double edge;                /* n.v cutoff for the silhouette ramp, 0 = off */
+  Color edge_color;
+} ShadeToon;
+
+typedef struct SceneShade {
+  ShadeKind kind;
+  const char *subkind;        /* e.g. "sphere" for `shade bokashi sphere` */
+  ShadeToon toon;             /* also holds specular/shininess/ambient for phong etc. */
+  SrcRange loc;
+} SceneShade;
+
+typedef enum { EDGE_SILHOUETTE = 1, EDGE_CREASE = 2, EDGE_BOUNDARY = 4, EDGE_FACE = 8 } EdgeKindBits;
+typedef enum { STROKE_PLAIN, STROKE_RIBBON, STROKE_BRUSH } StrokeKind;
+
+typedef struct SceneLines {
+  int present;
+  unsigned kinds;             /* EdgeKindBits */
+  double crease_angle;        /* degrees, for EDGE_CREASE */
+  StrokeKind stroke;
+  double width;               /* output pixels */
+  Color color;
+  double opacity;
+  const char *texture;        /* built-in name or image path, NULL = default */
+  double ref_scale;
+  int search_width, max_misses, link_depth;
+  double link_angle, miter_limit, min_length, depth_offset;
+  SrcRange loc;
+} SceneLines;
+
+typedef struct SceneStyle {
+  const char *name;           /* NULL for an anonymous style */
+  Color base;
+  SceneShade shade;
+  SceneLines lines;
+  SrcRange loc;
+} SceneStyle;
+
+/* ---- geometry -------------------------------------------------------- */
+
+typedef enum { GEOM_PATCHES, GEOM_MESH } GeomKind;
+
+/* A bicubic Bezier patch: 16 control points, rows of 4 along u
+** (cp[4 * j + i] is row j, column i). A bilinear patch uses cp[0..3]. */
+typedef struct ScenePatch {
+  int bilinear;
+  Vec3 cp[16];
+} ScenePatch;
+
+typedef enum { TESS_UNIFORM, TESS_ADAPTIVE } TessKind;
+
+typedef struct SceneGeometry {
+  GeomKind kind;
+  int npatches;
+  ScenePatch *patches;
+  /* GEOM_MESH: an indexed polygon mesh (faces of any size >= 3) */
+  int nverts;
+  Vec3 *verts;
+  int nfaces;
+  int *face_start;            /* nfaces + 1 offsets into face_index */
+  int *face_index;
+  /* subdivision (through OpenSubdiv) when subdiv_level > 0 */
+  int subdiv_level;
+  const char *subdiv_scheme;  /* "catmark", "loop", "bilinear" */
+  int ncreases;
+  struct { int a, b; double sharpness; } *creases;
+  int ncorners;
+  struct { int v; double sharpness; } *corners;
+  SrcRange loc;
+} SceneGeometry;
+
+typedef struct SceneObject {
+  const char *name;           /* NULL when anonymous */
+  SceneGeometry *geometry;
+  Mat4 transform;             /* object -> world */
+  int style;                  /* index into Scene.styles, -1 = default style */
+  TessKind tess_kind;
+  int tess_n;                 /* uniform: segments a patch side */
+  double tess_px;             /* adaptive: screen tolerance in pixels */
+  SrcRange loc;
+} SceneObject;
+
+typedef struct Scene {
+  Arena arena;
+  SceneOutput output;
+  SceneCamera camera;
+  int nlights; SceneLight *lights;
+  int nstyles; SceneStyle *styles;
+  int nobjects; SceneObject *objects;
+  double clock; int frame;
+} Scene;
+
+void scene_init(Scene *s);
+void scene_free(Scene *s);
+/* The style every object without one gets. */
+SceneStyle scene_default_style(void);
+
+#endif
