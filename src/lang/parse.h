@@ -16,4 +16,8 @@
 ** reported through diag. */
 AstNode *parse_file(int file, Arena *arena);
 
+/* Parse a whole source as one expression (for -D name=value). NULL after
+** reporting an error. */
+AstNode *parse_expression_file(int file, Arena *arena);
+
 #endif

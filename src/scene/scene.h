@@ -72,6 +72,12 @@ typedef struct SceneShade {
   ShadeKind kind;
   const char *subkind;        /* e.g. "sphere" for `shade bokashi sphere` */
   ShadeToon toon;             /* also holds specular/shininess/ambient for phong etc. */
+  /* shade origami */
+  int origami_mode;           /* 0 line, 1 illustration, 2 shaded */
+  Color origami_color;        /* display values, default (1, 1, 0.95) */
+  double origami_weights[3];  /* wa, wb, wc: default 0.675, 0.225, 0.15 */
+  double origami_radius;      /* shaded mode's disk, pixels */
+  const char *origami_texture;
   SrcRange loc;
 } SceneShade;
 
@@ -145,6 +151,50 @@ typedef struct SceneObject {
   SrcRange loc;
 } SceneObject;
 
+/* ---- origami -------------------------------------------------------- */
+
+/* A crease: an edge of the crease pattern between two vertices, with its
+** assignment: 'M' mountain, 'V' valley, 'B' boundary, 'F' flat, 'U' unknown. */
+typedef struct OrigamiCrease {
+  int a, b;
+  char assignment;
+  SrcRange loc;
+} OrigamiCrease;
+
+/* `above [i, j]`: face i lies over face j where they overlap (toward +z). */
+typedef struct OrigamiAbove {
+  int upper, lower;
+  SrcRange loc;
+} OrigamiAbove;
+
+/* An origami block as written (or read from a FOLD file by the evaluator's
+** fold_file()). Faces, the folded state and the overlap relation are
+** derived later (src/geom/origami.c) when not given. */
+typedef struct SceneOrigami {
+  const char *name;
+  int nverts;
+  Vec2 *verts;                /* paper coordinates */
+  SrcRange *vert_loc;
+  int ncreases;
+  OrigamiCrease *creases;
+  int nfaces;                 /* 0: derive from the planar graph */
+  int *face_start;            /* nfaces + 1 offsets into face_index */
+  int *face_index;
+  SrcRange *face_loc;
+  int has_folded;
+  Vec3 *folded;               /* nverts folded positions (z ignored: flat) */
+  int fixed;                  /* face that keeps its paper position */
+  int nabove;
+  OrigamiAbove *above;
+  int noverlap;               /* rows of the full matrix, 0 if not given */
+  const char **overlap;       /* "-UL" strings, one per face */
+  SrcRange overlap_loc;
+  const char *fold_file;      /* the FOLD file it came from, or NULL */
+  Mat4 transform;
+  int style;                  /* index into Scene.styles, -1 = default */
+  SrcRange loc;
+} SceneOrigami;
+
 typedef struct Scene {
   Arena arena;
   SceneOutput output;
@@ -152,6 +202,7 @@ typedef struct Scene {
   int nlights; SceneLight *lights;
   int nstyles; SceneStyle *styles;
   int nobjects; SceneObject *objects;
+  int norigami; SceneOrigami *origami;
   double clock; int frame;
 } Scene;
 
