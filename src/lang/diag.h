@@ -15,8 +15,9 @@
 #include <stddef.h>
 
 /* A source range. file indexes the table of loaded sources (diag_file);
-** line and col are 1-based and count characters, not bytes; the range ends
-** just after (end_line, end_col). file = -1 means "no location". */
+** line and col are 1-based and count characters, not bytes; (end_line,
+** end_col) is the position just past the last character (exclusive).
+** file = -1 means "no location". */
 typedef struct SrcRange {
   int file;
   int line, col;

@@ -39,6 +39,7 @@ typedef struct Token {
   double number;       /* TK_NUMBER */
   char *string;        /* TK_STRING (decoded, arena) and TK_IDENT (arena copy) */
   float color[4];      /* TK_COLOR: sRGB components in [0, 1] */
+  int bad;             /* the lexer reported an error inside this token */
 } Token;
 
 typedef struct Lexer {
@@ -46,6 +47,8 @@ typedef struct Lexer {
   const char *src, *end, *p;
   int line, col;       /* of p */
   Arena *arena;
+  int quiet;           /* lookahead: report nothing */
+  int errors;          /* errors reported so far */
 } Lexer;
 
 void lex_init(Lexer *lx, int file, Arena *arena);

@@ -1,0 +1,437 @@
+/*
+** The OpenSubdiv bridge (C++17 behind osd_bridge.h): builds Far topology
+** refiners from plain arrays, refines them uniformly (positions and limit
+** positions in double precision), and evaluates exact limit surfaces of
+** single faces with Bfr. Every entry point catches every exception and
+** turns it into a 0 result and a message; OpenSubdiv's own error and
+** warning callbacks are captured into the same message.
+*/
+#include "osd_bridge.h"
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/error.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefiner.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+namespace {
+
+// Errors ------------------------------------------------------------------
+
+// What OpenSubdiv reported through its callbacks during the current call.
+thread_local std::string osd_message;
+
+void on_osd_error(Far::ErrorType, const char *message) {
+  if (osd_message.empty()) osd_message = message ? message : "unknown OpenSubdiv error";
+}
+
+void on_osd_warning(const char *message) {
+  if (osd_message.empty() && message) osd_message = message;
+}
+
+// Install the callbacks once; clear what an earlier call left.
+void begin_call() {
+  static bool installed = false;
+  if (!installed) {
+    Far::SetErrorCallback(on_osd_error);
+    Far::SetWarningCallback(on_osd_warning);
+    installed = true;
+  }
+  osd_message.clear();
+}
+
+int fail(char *err, size_t errlen, const char *fmt, ...) {
+  if (err && errlen > 0) {
+    va_list ap;
+    va_start(ap, fmt);
+    std::vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+  }
+  return 0;
+}
+
+// Points as Far's primvar templates want them -------------------------------
+
+struct Point {
+  double p[3];
+  void Clear(void * = nullptr) { p[0] = p[1] = p[2] = 0; }
+  void AddWithWeight(Point const &src, double w) {
+    p[0] += w * src.p[0];
+    p[1] += w * src.p[1];
+    p[2] += w * src.p[2];
+  }
+};
+
+// Views a packed double array (3 a point) as Points, for read access.
+struct PointView {
+  const double *data;
+  Point const &operator[](int i) const { return *reinterpret_cast<Point const *>(data + 3 * i); }
+};
+
+static_assert(sizeof(Point) == 3 * sizeof(double), "Point must be three packed doubles");
+
+Sdc::SchemeType scheme_type(SumiOsdScheme s) {
+  switch (s) {
+    case SUMI_OSD_LOOP: return Sdc::SCHEME_LOOP;
+    case SUMI_OSD_BILINEAR: return Sdc::SCHEME_BILINEAR;
+    default: return Sdc::SCHEME_CATMARK;
+  }
+}
+
+Sdc::Options::VtxBoundaryInterpolation boundary_type(SumiOsdBoundary b) {
+  switch (b) {
+    case SUMI_OSD_BOUNDARY_NONE: return Sdc::Options::VTX_BOUNDARY_NONE;
+    case SUMI_OSD_BOUNDARY_EDGE_ONLY: return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
+    default: return Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER;
+  }
+}
+
+}  // namespace
+
+// The handle ----------------------------------------------------------------
+
+struct SumiOsdMesh {
+  // Copies of the caller's topology (the descriptor points into these).
+  std::vector<int> face_size, face_index, crease_verts, corner_verts;
+  std::vector<float> crease_sharpness, corner_sharpness;
+  int nverts = 0;
+  SumiOsdScheme scheme = SUMI_OSD_CATMARK;
+  SumiOsdBoundary boundary = SUMI_OSD_BOUNDARY_EDGE_AND_CORNER;
+  std::unique_ptr<Far::TopologyRefiner> base;                  // never refined
+  std::unique_ptr<Bfr::RefinerSurfaceFactory<>> factory;       // over base
+};
+
+namespace {
+
+Far::TopologyRefiner *make_refiner(SumiOsdMesh const &m) {
+  Far::TopologyDescriptor d;
+  d.numVertices = m.nverts;
+  d.numFaces = (int)m.face_size.size();
+  d.numVertsPerFace = m.face_size.data();
+  d.vertIndicesPerFace = m.face_index.data();
+  d.numCreases = (int)m.crease_sharpness.size();
+  d.creaseVertexIndexPairs = m.crease_verts.data();
+  d.creaseWeights = m.crease_sharpness.data();
+  d.numCorners = (int)m.corner_sharpness.size();
+  d.cornerVertexIndices = m.corner_verts.data();
+  d.cornerWeights = m.corner_sharpness.data();
+  Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(boundary_type(m.boundary));
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  return Factory::Create(d, Factory::Options(scheme_type(m.scheme), sdc));
+}
+
+// The checks OpenSubdiv does not make itself (an index out of range would
+// be read out of bounds there).
+int check_topology(const SumiOsdTopology *t, char *err, size_t errlen) {
+  if (t->nverts < 1 || t->nfaces < 1)
+    return fail(err, errlen, "mesh has %d vertices and %d faces; it needs at least one face",
+                t->nverts, t->nfaces);
+  long k = 0;
+  for (int f = 0; f < t->nfaces; f++) {
+    int n = t->face_size[f];
+    if (n < 3) return fail(err, errlen, "face %d has %d vertices; a face needs at least 3", f, n);
+    if (t->scheme == SUMI_OSD_LOOP && n != 3)
+      return fail(err, errlen, "face %d has %d vertices; the loop scheme takes triangles only", f, n);
+    for (int i = 0; i < n; i++, k++) {
+      int v = t->face_index[k];
+      if (v < 0 || v >= t->nverts)
+        return fail(err, errlen, "face %d refers to vertex %d; the mesh has %d vertices", f, v,
+                    t->nverts);
+    }
+  }
+  for (int c = 0; c < t->ncreases; c++) {
+    int a = t->crease_verts[2 * c], b = t->crease_verts[2 * c + 1];
+    float s = t->crease_sharpness[c];
+    if (a < 0 || a >= t->nverts || b < 0 || b >= t->nverts || a == b)
+      return fail(err, errlen, "crease %d: [%d, %d] is not an edge of a mesh with %d vertices", c,
+                  a, b, t->nverts);
+    if (!(s >= 0) || !std::isfinite(s))
+      return fail(err, errlen, "crease %d: sharpness must be a number >= 0", c);
+  }
+  for (int c = 0; c < t->ncorners; c++) {
+    int v = t->corner_verts[c];
+    float s = t->corner_sharpness[c];
+    if (v < 0 || v >= t->nverts)
+      return fail(err, errlen, "corner %d: vertex %d is not in a mesh with %d vertices", c, v,
+                  t->nverts);
+    if (!(s >= 0) || !std::isfinite(s))
+      return fail(err, errlen, "corner %d: sharpness must be a number >= 0", c);
+  }
+  return 1;
+}
+
+// Creases name vertex pairs; each must be an edge of the base mesh.
+int check_creases(SumiOsdMesh const &m, char *err, size_t errlen) {
+  Far::TopologyLevel const &l0 = m.base->GetLevel(0);
+  for (size_t c = 0; c < m.crease_sharpness.size(); c++) {
+    int a = m.crease_verts[2 * c], b = m.crease_verts[2 * c + 1];
+    if (l0.FindEdge(a, b) == Far::INDEX_INVALID)
+      return fail(err, errlen, "crease %d: vertices %d and %d share no edge of the mesh", (int)c, a,
+                  b);
+  }
+  return 1;
+}
+
+int create(const SumiOsdTopology *t, SumiOsdMesh **out, char *err, size_t errlen) {
+  if (!check_topology(t, err, errlen)) return 0;
+  std::unique_ptr<SumiOsdMesh> m(new SumiOsdMesh);
+  long nidx = 0;
+  for (int f = 0; f < t->nfaces; f++) nidx += t->face_size[f];
+  m->nverts = t->nverts;
+  m->scheme = t->scheme;
+  m->boundary = t->boundary;
+  m->face_size.assign(t->face_size, t->face_size + t->nfaces);
+  m->face_index.assign(t->face_index, t->face_index + nidx);
+  m->crease_verts.assign(t->crease_verts, t->crease_verts + 2 * t->ncreases);
+  m->crease_sharpness.assign(t->crease_sharpness, t->crease_sharpness + t->ncreases);
+  m->corner_verts.assign(t->corner_verts, t->corner_verts + t->ncorners);
+  m->corner_sharpness.assign(t->corner_sharpness, t->corner_sharpness + t->ncorners);
+  m->base.reset(make_refiner(*m));
+  if (!m->base)
+    return fail(err, errlen, "OpenSubdiv rejected the mesh: %s",
+                osd_message.empty() ? "invalid topology" : osd_message.c_str());
+  if (!check_creases(*m, err, errlen)) return 0;
+  m->factory.reset(new Bfr::RefinerSurfaceFactory<>(*m->base));
+  *out = m.release();
+  return 1;
+}
+
+// Refinement ----------------------------------------------------------------
+
+template <class T>
+T *copy_out(std::vector<T> const &v) {
+  T *p = static_cast<T *>(std::malloc(v.empty() ? 1 : v.size() * sizeof(T)));
+  if (!p) throw std::bad_alloc();
+  if (!v.empty()) std::memcpy(p, v.data(), v.size() * sizeof(T));
+  return p;
+}
+
+// Base crease tag of every edge of the last level: each user crease marks
+// its base edge, and each edge passes its tag to its two children.
+std::vector<float> tagged_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r) {
+  Far::TopologyLevel const &l0 = r.GetLevel(0);
+  std::vector<float> tag(l0.GetNumEdges(), 0.0f);
+  for (size_t c = 0; c < m.crease_sharpness.size(); c++) {
+    Far::Index e = l0.FindEdge(m.crease_verts[2 * c], m.crease_verts[2 * c + 1]);
+    if (e != Far::INDEX_INVALID) tag[e] = std::max(tag[e], m.crease_sharpness[c]);
+  }
+  for (int l = 1; l <= r.GetMaxLevel(); l++) {
+    Far::TopologyLevel const &parent = r.GetLevel(l - 1);
+    std::vector<float> child(r.GetLevel(l).GetNumEdges(), 0.0f);
+    for (int e = 0; e < parent.GetNumEdges(); e++) {
+      if (tag[e] <= 0) continue;
+      Far::ConstIndexArray kids = parent.GetEdgeChildEdges(e);
+      for (int k = 0; k < kids.size(); k++)
+        if (kids[k] != Far::INDEX_INVALID) child[kids[k]] = tag[e];
+    }
+    tag.swap(child);
+  }
+  return tag;
+}
+
+void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
+                  SumiOsdScheme scheme, std::vector<Point> &lim, std::vector<Point> &nrm) {
+  size_t n = last.size();
+  lim.resize(n);
+  nrm.assign(n, Point{{0, 0, 0}});
+  if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
+    lim = last;
+    return;
+  }
+  std::vector<Point> t1(n), t2(n);
+  Far::PrimvarRefinerReal<double> pr(r);
+  pr.Limit(last, lim, t1, t2);
+  for (size_t i = 0; i < n; i++) {
+    double const *a = t1[i].p, *b = t2[i].p;
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (len > 0 && std::isfinite(len))
+      for (int k = 0; k < 3; k++) nrm[i].p[k] = c[k] / len;
+  }
+}
+
+int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
+           size_t errlen) {
+  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
+  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(*m));
+  if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
+  Far::TopologyRefiner::UniformOptions uo(level);
+  uo.fullTopologyInLastLevel = true;  // edges of the last level, for the crease tags
+  r->RefineUniform(uo);
+
+  // Positions level by level (double precision weights).
+  Far::PrimvarRefinerReal<double> pr(*r);
+  std::vector<Point> src(m->nverts), dst;
+  std::memcpy(src.data(), pos, sizeof(Point) * src.size());
+  for (int l = 1; l <= level; l++) {
+    dst.assign(r->GetLevel(l).GetNumVertices(), Point{{0, 0, 0}});
+    pr.Interpolate(l, src, dst);
+    src.swap(dst);
+  }
+  std::vector<Point> lim, nrm;
+  limit_points(*r, src, m->scheme, lim, nrm);
+
+  Far::TopologyLevel const &last = r->GetLevel(level);
+  std::vector<int> start(1, 0), index, base;
+  for (int f = 0; f < last.GetNumFaces(); f++) {
+    Far::ConstIndexArray fv = last.GetFaceVertices(f);
+    for (int k = 0; k < fv.size(); k++) index.push_back(fv[k]);
+    start.push_back((int)index.size());
+    int b = f;  // walk up to the base face
+    for (int l = level; l >= 1; l--) b = r->GetLevel(l).GetFaceParentFace(b);
+    base.push_back(b);
+  }
+  std::vector<float> tag = tagged_edges(*m, *r), sharp, vsharp;
+  std::vector<int> sharp_verts;
+  for (int e = 0; e < last.GetNumEdges(); e++) {
+    if (tag[e] <= 0) continue;
+    Far::ConstIndexArray ev = last.GetEdgeVertices(e);
+    sharp_verts.push_back(ev[0]);
+    sharp_verts.push_back(ev[1]);
+    sharp.push_back(tag[e]);
+  }
+  for (int v = 0; v < last.GetNumVertices(); v++) vsharp.push_back(last.GetVertexSharpness(v));
+
+  std::vector<double> ctrl(3 * src.size()), limd(3 * src.size()), nrmd(3 * src.size());
+  std::memcpy(ctrl.data(), src.data(), sizeof(double) * ctrl.size());
+  std::memcpy(limd.data(), lim.data(), sizeof(double) * limd.size());
+  std::memcpy(nrmd.data(), nrm.data(), sizeof(double) * nrmd.size());
+  SumiOsdRefined res;
+  std::memset(&res, 0, sizeof res);
+  res.level = level;
+  res.nverts = (int)src.size();
+  res.nfaces = last.GetNumFaces();
+  res.nsharp = (int)sharp.size();
+  res.ctrl = copy_out(ctrl);
+  res.limit = copy_out(limd);
+  res.normal = copy_out(nrmd);
+  res.vert_sharpness = copy_out(vsharp);
+  res.face_start = copy_out(start);
+  res.face_index = copy_out(index);
+  res.face_base = copy_out(base);
+  res.sharp_verts = copy_out(sharp_verts);
+  res.sharp = copy_out(sharp);
+  *out = res;
+  return 1;
+}
+
+// Limit evaluation ------------------------------------------------------------
+
+int eval_face(const SumiOsdMesh *m, const double *pos, int face, int npts, const double *uv,
+              double *P, double *du, double *dv, int *regular, char *err, size_t errlen) {
+  if (face < 0 || face >= (int)m->face_size.size())
+    return fail(err, errlen, "face %d is not in the mesh", face);
+  Bfr::Surface<double> s;
+  if (!m->factory->InitVertexSurface<double>(face, &s) || !s.IsValid())
+    return fail(err, errlen, "face %d has no limit surface", face);
+  if (regular) *regular = s.IsRegular();
+  Bfr::Surface<double>::PointDescriptor desc(3);
+  std::vector<double> patch(3 * (size_t)s.GetNumPatchPoints());
+  s.PreparePatchPoints(pos, desc, patch.data(), desc);
+  double scratch_u[3], scratch_v[3];
+  for (int i = 0; i < npts; i++) {
+    double *pu = du ? du + 3 * i : scratch_u, *pv = dv ? dv + 3 * i : scratch_v;
+    s.Evaluate(uv + 2 * i, patch.data(), desc, P + 3 * i, pu, pv);
+  }
+  return 1;
+}
+
+}  // namespace
+
+// The C interface -------------------------------------------------------------
+
+extern "C" int sumi_osd_create(const SumiOsdTopology *topo, SumiOsdMesh **out, char *err,
+                               size_t errlen) {
+  *out = nullptr;
+  try {
+    begin_call();
+    return create(topo, out, err, errlen);
+  } catch (std::bad_alloc const &) {
+    return fail(err, errlen, "out of memory in OpenSubdiv");
+  } catch (std::exception const &e) {
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}
+
+extern "C" void sumi_osd_destroy(SumiOsdMesh *m) {
+  try {
+    delete m;
+  } catch (...) {
+  }
+}
+
+extern "C" int sumi_osd_refine(const SumiOsdMesh *m, int level, const double *pos,
+                               SumiOsdRefined *out, char *err, size_t errlen) {
+  std::memset(out, 0, sizeof *out);
+  try {
+    begin_call();
+    return refine(m, level, pos, out, err, errlen);
+  } catch (std::bad_alloc const &) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "out of memory refining to level %d", level);
+  } catch (std::exception const &e) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}
+
+extern "C" void sumi_osd_refined_free(SumiOsdRefined *r) {
+  if (!r) return;
+  std::free(r->ctrl);
+  std::free(r->limit);
+  std::free(r->normal);
+  std::free(r->vert_sharpness);
+  std::free(r->face_start);
+  std::free(r->face_index);
+  std::free(r->face_base);
+  std::free(r->sharp_verts);
+  std::free(r->sharp);
+  std::memset(r, 0, sizeof *r);
+}
+
+extern "C" int sumi_osd_face_has_limit(const SumiOsdMesh *m, int face) {
+  try {
+    begin_call();
+    if (face < 0 || face >= (int)m->face_size.size()) return 0;
+    return m->factory->FaceHasLimitSurface(face) ? 1 : 0;
+  } catch (...) {
+    return 0;
+  }
+}
+
+extern "C" int sumi_osd_eval_face(const SumiOsdMesh *m, const double *pos, int face, int npts,
+                                  const double *uv, double *P, double *du, double *dv,
+                                  int *regular, char *err, size_t errlen) {
+  try {
+    begin_call();
+    return eval_face(m, pos, face, npts, uv, P, du, dv, regular, err, errlen);
+  } catch (std::bad_alloc const &) {
+    return fail(err, errlen, "out of memory evaluating face %d", face);
+  } catch (std::exception const &e) {
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}

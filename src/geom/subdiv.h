@@ -1,0 +1,64 @@
+/*
+** Subdivision surfaces: a GEOM_MESH SceneGeometry with subdiv_level > 0
+** becomes a triangle Mesh refined by OpenSubdiv (through osd_bridge.h).
+** The mesh's vertices are the level's points pushed to the limit surface,
+** its normals the limit normals, and every edge that descends from a
+** tagged crease carries that crease's sharpness in MeshEdge.sharpness, so
+** the line stages draw it as a crease line.
+*/
+#ifndef geom_subdiv_h
+#define geom_subdiv_h
+
+#include <stddef.h>
+
+#include "../scene/scene.h"
+#include "mesh.h"
+#include "osd_bridge.h"
+
+/* Highest level subdiv() accepts: each level multiplies the faces by 4. */
+#define SUBDIV_MAX_LEVEL 10
+/* Most refined faces (quads or triangles) one object may reach: 4 M quads
+** are 8 M triangles, about 1.5 GB through OpenSubdiv's full topology at
+** the last level plus our mesh. */
+#define SUBDIV_MAX_FACES (1 << 22)
+
+/* Parse a scheme name ("catmark", "loop", "bilinear"; NULL = catmark).
+** Returns 1, or 0 for an unknown name. */
+int subdiv_scheme_parse(const char *name, SumiOsdScheme *out);
+/* Parse a boundary name ("edge_and_corner", "edge_only", "none"; NULL =
+** edge_and_corner). Returns 1, or 0 for an unknown name. */
+int subdiv_boundary_parse(const char *name, SumiOsdBoundary *out);
+
+/* How many faces refining g to its level gives (an estimate from the base
+** faces, exact for quads and triangles), saturating at INT_MAX. */
+long subdiv_face_count(const SceneGeometry *g);
+
+/* Check g's subdivision settings (level, scheme, faces, creases, corners,
+** the face limit) without refining: 1 when fine, else 0 and a reason in
+** err. The evaluator can call this to report errors at the script. */
+int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen);
+
+/* Refine g (GEOM_MESH, subdiv_level >= 1) and triangulate the result.
+** tri_face is the base polygon each triangle lies in; uv is NULL. The
+** caller owns the result (mesh_destroy). NULL and a reason in err on
+** failure. */
+Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen);
+
+/* The same, also handing back the bridge's refinement (positions at the
+** level, faces, tags) into *refined when it is not NULL; the caller frees
+** it with sumi_osd_refined_free(). */
+Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRefined *refined,
+                     char *err, size_t errlen);
+
+/* Build the bridge topology of g (arrays in scratch, freed by the caller
+** with subdiv_topology_free) and the handle; 1 on success. */
+typedef struct SubdivTopology {
+  SumiOsdTopology topo;
+  int *face_size, *crease_verts, *corner_verts;
+  float *crease_sharpness, *corner_sharpness;
+} SubdivTopology;
+int subdiv_topology(const SceneGeometry *g, SumiOsdBoundary boundary, SubdivTopology *st,
+                    char *err, size_t errlen);
+void subdiv_topology_free(SubdivTopology *st);
+
+#endif

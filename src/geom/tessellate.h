@@ -1,0 +1,46 @@
+/*
+** Tessellation: turns a SceneGeometry into a triangle Mesh (see mesh.h)
+** with topology (mesh_build_edges), unit normals and per-triangle source
+** faces. Triangles are counter-clockwise seen from the side their normals
+** point to.
+**
+** Patch meshes: vertices on shared patch borders are welded, so edges
+** across patches carry adjacency; tri_face is the patch index and uv the
+** patch parameters (at a welded vertex, those of the first patch that made
+** it); normals come from patch_normal() (exact, not averaged).
+*/
+#ifndef geom_tessellate_h
+#define geom_tessellate_h
+
+#include "../scene/scene.h"
+#include "mesh.h"
+
+/* Most segments a patch side gets (uniform n and adaptive alike): 256 gives
+** 66k vertices a patch, far beyond any screen's need. */
+#define TESS_MAX_SEGMENTS 256
+
+/* An (n+1) x (n+1) grid per patch, n clamped to [1, TESS_MAX_SEGMENTS].
+** g must be GEOM_PATCHES. The caller owns the result (mesh_destroy). */
+Mesh *tess_uniform(const SceneGeometry *g, int n);
+
+/* Adaptive: each patch edge gets a segment count from its own control
+** points only (projected by object_to_clip into a width x height image),
+** so two patches that share an edge sample it alike and the surface is
+** crack-free (no T-junctions); the interior is filled to the flatness
+** tolerance tolerance_px (pixels) and stitched to the edges. A NULL
+** object_to_clip measures in object units instead of pixels. The caller
+** owns the result. */
+Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int width, int height,
+                    double tolerance_px);
+
+/* GEOM_MESH: each polygon triangulated (ear clipping in its best-fit
+** plane; convex polygons as a fan), tri_face = polygon index, vertices
+** shared as given, area-weighted normals (mesh_compute_normals). Polygons
+** with fewer than 3 valid indices are skipped. The caller owns the result. */
+Mesh *tess_polygons(const SceneGeometry *g);
+
+/* Whichever of the above g and the object's settings ask for. */
+Mesh *tess_geometry(const SceneGeometry *g, TessKind kind, int n, double tolerance_px,
+                    const Mat4 *object_to_clip, int width, int height);
+
+#endif

@@ -1,0 +1,97 @@
+/*
+** Images in memory and on disk. An Image is linear float, row-major, top
+** row first, channels interleaved; with 2 or 4 channels the last one is
+** alpha, unassociated (colour not multiplied by alpha).
+**
+** Files go through OpenImageIO, behind a bridge library loaded on first
+** use (image_oiio.h). The format comes from the extension:
+**   png, tif/tiff, jpg/jpeg  sRGB-encoded from linear, 8-bit (png and tif
+**                            may be 16-bit); alpha stays linear; no dither
+**   exr                      linear float (or half); alpha associated, as
+**                            EXR defines it: colour is multiplied by alpha
+**                            on write and divided on read
+** Every write goes to a temporary file beside the target and is renamed
+** over it only when complete, so a failed or interrupted write never leaves
+** a partial image under the real name.
+**
+** Functions that can fail return 1 on success and 0 on failure, with a
+** one-line reason naming the file in err (errlen bytes, may be 0).
+*/
+#ifndef io_image_h
+#define io_image_h
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Channels an image may carry: colour images use 1-4; AOV EXRs carry a few
+** more (depth, normal, uv, ids). Bounds a file's header before allocation. */
+#define IMAGE_MAX_CHANNELS 16
+/* Largest image image_read accepts: 8192 x 8192, so a 4-channel float copy
+** stays at 1 GiB; a header asking for more is refused before allocation. */
+#define IMAGE_READ_MAX_PIXELS (8192LL * 8192LL)
+
+typedef struct Image {
+  int width, height, channels;
+  float *data;                /* width * height * channels floats */
+} Image;
+
+/* A zeroed w x h image of channels channels (1..IMAGE_MAX_CHANNELS). Sizes
+** are checked by the caller against its limits first; bad sizes or running
+** out of memory end the program with a message. Free with image_destroy. */
+Image *image_create(int w, int h, int channels);
+void image_destroy(Image *img);                /* NULL is fine */
+
+/* Index of the alpha channel of img (the last of 2 or 4), or -1. */
+int image_alpha_channel(const Image *img);
+
+/* Options for image_write_opts; all-zero means the defaults. */
+typedef struct ImageWriteOptions {
+  int bits;                   /* png, tif: 8 (default) or 16 per channel */
+  int exr_half;               /* exr: 16-bit half instead of 32-bit float */
+  int jpeg_quality;           /* jpg: 1..100, 0 for the default (95) */
+} ImageWriteOptions;
+
+/* Write img to path in the format its extension names. */
+int image_write(const char *path, const Image *img, char *err, size_t errlen);
+int image_write_opts(const char *path, const Image *img, const ImageWriteOptions *opt,
+                     char *err, size_t errlen);
+
+/* Read path into a new Image (*out; free with image_destroy): integer
+** formats are sRGB-decoded to linear (alpha linearly), float formats kept
+** as stored. Errors say whether the file is missing, not an image, or
+** corrupt. On failure *out is NULL. */
+int image_read(const char *path, Image **out, char *err, size_t errlen);
+
+/* Arbitrary-output variables: a w x h float EXR of nch channels named by
+** channel_names (e.g. "Z" or "N.x", "N.y", "N.z"), data interleaved, no
+** colour transform. */
+int image_write_aov_exr(const char *path, int w, int h, int nch, const char **channel_names,
+                        const float *data, char *err, size_t errlen);
+
+/* A single-channel 32-bit signed integer TIFF of ids (object or face). */
+int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, char *err,
+                         size_t errlen);
+
+/* Read a single-channel integer image written by image_write_ids_tiff:
+** *ids is malloc'ed (free it), *w and *h set. */
+int image_read_ids(const char *path, int *w, int *h, int32_t **ids, char *err, size_t errlen);
+
+/* ---- colour encoding (exact, table-driven, deterministic) ------------- */
+
+uint8_t image_linear_to_srgb8(float v);        /* clamps to [0, 1]; NaN -> 0 */
+float image_srgb8_to_linear(int code);         /* code 0..255 */
+/* Encode img as 8-bit: sRGB for colour channels, linear for alpha; out has
+** width * height * channels bytes. */
+void image_to_srgb8(const Image *img, uint8_t *out);
+
+/* ---- the bridge library ------------------------------------------------ */
+
+/* Load the OpenImageIO bridge now (every read and write does this on first
+** use; a caller may do it early on another thread to hide the ~0.2 s).
+** Thread-safe; later calls return the first call's result. */
+int image_bridge_load(char *err, size_t errlen);
+/* Seconds the load took (dlopen of the bridge and OIIO's libraries), or 0
+** if it has not happened: reported apart from encode times in --stats. */
+double image_bridge_load_seconds(void);
+
+#endif

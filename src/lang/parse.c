@@ -1,0 +1,718 @@
+/*
+** Recursive-descent parser for .npr scripts. Each parse function begins
+** with the rule of grammar/npr.ebnf it implements (same names).
+**
+** Errors are reported and parsing goes on: the item being parsed is
+** abandoned and the parser resynchronises at the next `;` or `}` of its
+** nesting level, so one run reports several independent mistakes. Nesting
+** deeper than PARSE_MAX_DEPTH stops the parse with one diagnostic, which
+** keeps the C stack safe on any input.
+**
+** Written bottom-up: token handling, then expressions, then items.
+*/
+#include "parse.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct Parser {
+  Lexer lx;
+  Token cur;          /* the token being looked at */
+  Token next;         /* one token of lookahead, valid when has_next */
+  int has_next;
+  SrcRange prev_end;  /* end of the last consumed token (for "expected `;`") */
+  int prev_bad;       /* the last consumed token had a lexical error */
+  Arena *arena;
+  int depth;
+  int stop;           /* nesting limit hit or too many errors: unwind */
+  int panic;          /* an error in the current item: skip to a sync point */
+  int errors;
+} Parser;
+
+/* ---- tokens ------------------------------------------------------------ */
+
+static void next_token(Parser *p) {
+  p->prev_end = p->cur.range;
+  p->prev_end.line = p->cur.range.end_line;
+  p->prev_end.col = p->cur.range.end_col;
+  p->prev_end.end_col = p->prev_end.col + 1;
+  p->prev_bad = p->cur.bad;
+  if (p->has_next) { p->cur = p->next; p->has_next = 0; }
+  else p->cur = lex_next(&p->lx);
+  if (diag_too_many()) p->stop = 1;
+}
+
+static Token *peek(Parser *p) {
+  if (!p->has_next) { p->next = lex_next(&p->lx); p->has_next = 1; }
+  return &p->next;
+}
+
+static int check(Parser *p, TokenKind k) { return p->cur.kind == k; }
+
+static int accept(Parser *p, TokenKind k) {
+  if (!check(p, k)) return 0;
+  next_token(p);
+  return 1;
+}
+
+/* Text of the current token for messages: `name`, `12`, or its kind. */
+static const char *found(Parser *p) {
+  static char buf[80];
+  const Token *t = &p->cur;
+  if (t->kind == TK_EOF) return "end of file";
+  if (t->kind == TK_STRING) return "a string";
+  int n = t->len > 40 ? 40 : t->len;
+  snprintf(buf, sizeof buf, "`%.*s%s`", n, t->start, t->len > 40 ? "…" : "");
+  return buf;
+}
+
+/* Report an error unless this item already has one; enter panic mode. */
+static void error_at(Parser *p, SrcRange at, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void error_at(Parser *p, SrcRange at, const char *fmt, ...) {
+  if (p->panic || p->stop) return;
+  char msg[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  diag_error(at, "%s", msg);
+  p->panic = 1;
+  p->errors++;
+}
+
+/* "expected `;` after …": when the offending token is on a later line, point
+** just past the previous token, where the `;` is missing. */
+static void expected(Parser *p, TokenKind k, const char *context) {
+  if (p->prev_bad) { p->panic = 1; return; }   /* the lexer already said what is wrong */
+  SrcRange at = p->cur.range;
+  if (p->cur.range.line > p->prev_end.line && p->prev_end.file >= 0) at = p->prev_end;
+  error_at(p, at, "expected %s %s, found %s", token_name(k), context, found(p));
+}
+
+static int expect(Parser *p, TokenKind k, const char *context) {
+  if (accept(p, k)) return 1;
+  expected(p, k, context);
+  return 0;
+}
+
+/* Expect the closer of a bracket opened at `open`; name the opening place. */
+static int expect_close(Parser *p, TokenKind k, const Token *open, const char *what) {
+  if (accept(p, k)) return 1;
+  if (p->panic || p->stop) return 0;
+  SrcRange at = p->cur.range;
+  if (p->cur.range.line > p->prev_end.line) at = p->prev_end;
+  error_at(p, at, "expected %s to close the %s opened at line %d, found %s", token_name(k), what,
+           open->range.line, found(p));
+  diag_note(open->range, "the %s opened here", what);
+  return 0;
+}
+
+static int enter(Parser *p, SrcRange at) {
+  if (p->stop) return 0;
+  if (++p->depth > PARSE_MAX_DEPTH) {
+    diag_error(at, "nesting too deep (limit is %d levels of brackets, blocks and operators)", PARSE_MAX_DEPTH);
+    p->stop = 1;
+    return 0;
+  }
+  return 1;
+}
+
+static void leave(Parser *p) { p->depth--; }
+
+static AstNode *node(Parser *p, AstKind k, SrcRange r) { return ast_new(p->arena, k, r); }
+
+/* Append to a list (arrays double; the arena keeps the old copies until the
+** parse ends, which is cheap next to the tokens themselves). */
+static void push(Parser *p, AstList *l, AstNode *n) {
+  if (!n) return;
+  if ((l->count & (l->count - 1)) == 0) {   /* count is 0 or a power of two: grow */
+    int cap = l->count ? l->count * 2 : 2;
+    AstNode **items = arena_alloc(p->arena, (size_t)cap * sizeof *items);
+    if (l->count) memcpy(items, l->items, (size_t)l->count * sizeof *items);
+    l->items = items;
+  }
+  l->items[l->count++] = n;
+}
+
+static SrcRange span_from(Parser *p, SrcRange start) {
+  SrcRange r = start;
+  r.end_line = p->prev_end.line;
+  r.end_col = p->prev_end.col;
+  return r;
+}
+
+/* ---- expressions ------------------------------------------------------ */
+
+static AstNode *parse_expr(Parser *p);
+static AstNode *parse_unary(Parser *p);
+static AstNode *parse_list_elem(Parser *p);
+
+/* A placeholder for an expression that failed to parse. */
+static AstNode *bad_expr(Parser *p) { return node(p, AST_UNDEF, p->cur.range); }
+
+/* binding := IDENT '=' expr */
+static AstNode *parse_binding(Parser *p) {
+  AstNode *b = node(p, AST_BINDING, p->cur.range);
+  if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a name to bind)"); return NULL; }
+  b->name = p->cur.string;
+  next_token(p);
+  expect(p, TK_ASSIGN, "after the name");
+  b->a = parse_expr(p);
+  b->range = span_from(p, b->range);
+  return b;
+}
+
+/* bindings := binding { ',' binding } */
+static void parse_bindings(Parser *p, AstList *out) {
+  do {
+    if (check(p, TK_RPAREN)) break;   /* trailing comma */
+    push(p, out, parse_binding(p));
+  } while (!p->panic && !p->stop && accept(p, TK_COMMA));
+}
+
+/* params := [ param { ',' param } [','] ];  param := IDENT [ '=' expr ] */
+static void parse_params(Parser *p, AstList *out) {
+  Token open = p->cur;
+  if (!expect(p, TK_LPAREN, "to start the parameter list")) return;
+  while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
+    if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a parameter name)"); return; }
+    AstNode *prm = node(p, AST_PARAM, p->cur.range);
+    prm->name = p->cur.string;
+    next_token(p);
+    if (accept(p, TK_ASSIGN)) prm->a = parse_expr(p);
+    prm->range = span_from(p, prm->range);
+    push(p, out, prm);
+    if (!accept(p, TK_COMMA)) break;
+  }
+  expect_close(p, TK_RPAREN, &open, "parameter list");
+}
+
+/* args := [ arg { ',' arg } [','] ];  arg := [ IDENT '=' ] expr */
+static void parse_args(Parser *p, AstList *out, const Token *open) {
+  while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
+    AstNode *arg = node(p, AST_ARG, p->cur.range);
+    if (check(p, TK_IDENT) && peek(p)->kind == TK_ASSIGN) {
+      arg->name = p->cur.string;
+      next_token(p);
+      next_token(p);
+    }
+    arg->a = parse_expr(p);
+    arg->range = span_from(p, arg->range);
+    push(p, out, arg);
+    if (!accept(p, TK_COMMA)) break;
+  }
+  expect_close(p, TK_RPAREN, open, "argument list");
+}
+
+/* list := '[' ']' | '[' expr ':' expr [ ':' expr ] ']'
+**       | '[' list_elem { ',' list_elem } [','] ']' */
+static AstNode *parse_list(Parser *p) {
+  Token open = p->cur;
+  next_token(p);
+  AstNode *l = node(p, AST_LIST, open.range);
+  if (accept(p, TK_RBRACKET)) { l->range = span_from(p, open.range); return l; }
+  AstNode *first = parse_list_elem(p);
+  if (check(p, TK_COLON) && first && first->kind < AST_COMP_FOR) {
+    AstNode *r = node(p, AST_RANGE, open.range);
+    next_token(p);
+    r->a = first;
+    r->c = parse_expr(p);
+    if (accept(p, TK_COLON)) { r->b = r->c; r->c = parse_expr(p); }
+    expect_close(p, TK_RBRACKET, &open, "range");
+    r->range = span_from(p, open.range);
+    return r;
+  }
+  push(p, &l->list, first);
+  while (accept(p, TK_COMMA) && !p->panic && !p->stop) {
+    if (check(p, TK_RBRACKET)) break;
+    push(p, &l->list, parse_list_elem(p));
+  }
+  expect_close(p, TK_RBRACKET, &open, "list");
+  l->range = span_from(p, open.range);
+  return l;
+}
+
+/* list_elem := 'for' '(' bindings ')' list_elem
+**            | 'if' '(' expr ')' list_elem [ 'else' list_elem ]
+**            | 'each' expr
+**            | 'let' '(' bindings ')' list_elem
+**            | expr */
+static AstNode *parse_list_elem(Parser *p) {
+  SrcRange start = p->cur.range;
+  if (!enter(p, start)) return bad_expr(p);
+  AstNode *n;
+  if (check(p, TK_FOR) || check(p, TK_LET)) {
+    n = node(p, check(p, TK_FOR) ? AST_COMP_FOR : AST_COMP_LET, start);
+    next_token(p);
+    Token open = p->cur;
+    expect(p, TK_LPAREN, n->kind == AST_COMP_FOR ? "after `for`" : "after `let`");
+    parse_bindings(p, &n->list);
+    expect_close(p, TK_RPAREN, &open, n->kind == AST_COMP_FOR ? "`for` bindings" : "`let` bindings");
+    n->a = parse_list_elem(p);
+  } else if (accept(p, TK_IF)) {
+    n = node(p, AST_COMP_IF, start);
+    Token open = p->cur;
+    expect(p, TK_LPAREN, "after `if`");
+    n->a = parse_expr(p);
+    expect_close(p, TK_RPAREN, &open, "`if` condition");
+    n->b = parse_list_elem(p);
+    if (accept(p, TK_ELSE)) n->c = parse_list_elem(p);
+  } else if (accept(p, TK_EACH)) {
+    n = node(p, AST_COMP_EACH, start);
+    n->a = parse_expr(p);
+  } else {
+    leave(p);
+    return parse_expr(p);
+  }
+  n->range = span_from(p, start);
+  leave(p);
+  return n;
+}
+
+/* primary := NUMBER | STRING | COLOR | 'true' | 'false' | 'undef' | IDENT
+**          | '(' expr ')' | list | let_expr | fn_expr
+** let_expr := 'let' '(' bindings ')' expr
+** fn_expr  := 'fn' params '=' expr */
+static AstNode *parse_primary(Parser *p) {
+  Token t = p->cur;
+  AstNode *n;
+  switch (t.kind) {
+    case TK_NUMBER: next_token(p); n = node(p, AST_NUMBER, t.range); n->number = t.number; return n;
+    case TK_STRING: next_token(p); n = node(p, AST_STRING, t.range); n->name = t.string; return n;
+    case TK_COLOR:
+      next_token(p);
+      n = node(p, AST_COLOR, t.range);
+      memcpy(n->color, t.color, sizeof n->color);
+      return n;
+    case TK_TRUE: case TK_FALSE:
+      next_token(p); n = node(p, AST_BOOL, t.range); n->number = t.kind == TK_TRUE; return n;
+    case TK_UNDEF: next_token(p); return node(p, AST_UNDEF, t.range);
+    case TK_IDENT: next_token(p); n = node(p, AST_IDENT, t.range); n->name = t.string; return n;
+    case TK_LPAREN:
+      next_token(p);
+      n = parse_expr(p);
+      expect_close(p, TK_RPAREN, &t, "parenthesis");
+      return n;
+    case TK_LBRACKET: return parse_list(p);
+    case TK_LET: {
+      next_token(p);
+      n = node(p, AST_LET_EXPR, t.range);
+      Token open = p->cur;
+      expect(p, TK_LPAREN, "after `let` in an expression");
+      parse_bindings(p, &n->list);
+      expect_close(p, TK_RPAREN, &open, "`let` bindings");
+      n->a = parse_expr(p);
+      n->range = span_from(p, t.range);
+      return n;
+    }
+    case TK_FN:
+      next_token(p);
+      n = node(p, AST_FN_EXPR, t.range);
+      parse_params(p, &n->list);
+      expect(p, TK_ASSIGN, "before the body of a function literal");
+      n->a = parse_expr(p);
+      n->range = span_from(p, t.range);
+      return n;
+    default:
+      error_at(p, t.range, "expected an expression, found %s", found(p));
+      return bad_expr(p);
+  }
+}
+
+/* postfix := primary { '(' args ')' | '[' expr ']' | '.' IDENT } */
+static AstNode *parse_postfix(Parser *p) {
+  SrcRange start = p->cur.range;
+  AstNode *e = parse_primary(p);
+  for (;;) {
+    if (p->panic || p->stop) return e;
+    Token t = p->cur;
+    if (accept(p, TK_LPAREN)) {
+      AstNode *call = node(p, AST_CALL, start);
+      call->a = e;
+      if (!enter(p, t.range)) return e;
+      parse_args(p, &call->list, &t);
+      leave(p);
+      call->range = span_from(p, start);
+      e = call;
+    } else if (accept(p, TK_LBRACKET)) {
+      AstNode *ix = node(p, AST_INDEX, start);
+      ix->a = e;
+      ix->b = parse_expr(p);
+      expect_close(p, TK_RBRACKET, &t, "index");
+      ix->range = span_from(p, start);
+      e = ix;
+    } else if (accept(p, TK_DOT)) {
+      AstNode *m = node(p, AST_MEMBER, start);
+      m->a = e;
+      if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "after `.`"); return e; }
+      m->name = p->cur.string;
+      next_token(p);
+      m->range = span_from(p, start);
+      e = m;
+    } else return e;
+  }
+}
+
+/* power := postfix [ '^' unary ]          (right-associative, above unary minus) */
+static AstNode *parse_power(Parser *p) {
+  SrcRange start = p->cur.range;
+  AstNode *base = parse_postfix(p);
+  if (!check(p, TK_CARET)) return base;
+  AstNode *n = node(p, AST_BINARY, start);
+  n->op = TK_CARET;
+  next_token(p);
+  n->a = base;
+  n->b = parse_unary(p);
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* unary := ( '-' | '+' | '!' ) unary | power */
+static AstNode *parse_unary(Parser *p) {
+  SrcRange start = p->cur.range;
+  if (!enter(p, start)) return bad_expr(p);
+  AstNode *n;
+  if (check(p, TK_MINUS) || check(p, TK_PLUS) || check(p, TK_NOT)) {
+    n = node(p, AST_UNARY, start);
+    n->op = p->cur.kind;
+    next_token(p);
+    n->a = parse_unary(p);
+    n->range = span_from(p, start);
+  } else n = parse_power(p);
+  leave(p);
+  return n;
+}
+
+/* Binary levels, loosest first; each is left-associative:
+** or := and { '||' and };  and := equality { '&&' equality }
+** equality := comparison { ('==' | '!=') comparison }
+** comparison := additive { ('<' | '<=' | '>' | '>=') additive }
+** additive := multiplicative { ('+' | '-') multiplicative }
+** multiplicative := unary { ('*' | '/' | '%') unary } */
+static const TokenKind binary_levels[][5] = {
+  {TK_OR}, {TK_AND}, {TK_EQ, TK_NE}, {TK_LT, TK_LE, TK_GT, TK_GE},
+  {TK_PLUS, TK_MINUS}, {TK_STAR, TK_SLASH, TK_PERCENT},
+};
+#define BINARY_LEVELS ((int)(sizeof binary_levels / sizeof binary_levels[0]))
+
+static int at_level(Parser *p, int level) {
+  for (int i = 0; i < 5 && binary_levels[level][i]; i++)
+    if (p->cur.kind == binary_levels[level][i]) return 1;
+  return 0;
+}
+
+static AstNode *parse_binary(Parser *p, int level) {
+  if (level == BINARY_LEVELS) return parse_unary(p);
+  SrcRange start = p->cur.range;
+  AstNode *left = parse_binary(p, level + 1);
+  while (at_level(p, level) && !p->panic && !p->stop) {
+    AstNode *n = node(p, AST_BINARY, start);
+    n->op = p->cur.kind;
+    next_token(p);
+    n->a = left;
+    n->b = parse_binary(p, level + 1);
+    n->range = span_from(p, start);
+    left = n;
+  }
+  return left;
+}
+
+/* expr := or [ '?' expr ':' expr ] */
+static AstNode *parse_expr(Parser *p) {
+  SrcRange start = p->cur.range;
+  if (!enter(p, start)) return bad_expr(p);
+  AstNode *cond = parse_binary(p, 0);
+  if (check(p, TK_QUESTION) && !p->panic) {
+    AstNode *n = node(p, AST_TERNARY, start);
+    next_token(p);
+    n->a = cond;
+    n->b = parse_expr(p);
+    expect(p, TK_COLON, "in a `? :` expression");
+    n->c = parse_expr(p);
+    n->range = span_from(p, start);
+    cond = n;
+  }
+  leave(p);
+  return cond;
+}
+
+/* ---- items ------------------------------------------------------------- */
+
+static AstNode *parse_item(Parser *p);
+
+/* Skip to a point where parsing can resume: past the next `;` or before the
+** next `}` at this nesting level (brackets in between are balanced). */
+static void synchronize(Parser *p) {
+  int depth = 0;
+  while (!check(p, TK_EOF) && !p->stop) {
+    TokenKind k = p->cur.kind;
+    if (depth == 0 && k == TK_RBRACE) break;
+    if (k == TK_LPAREN || k == TK_LBRACKET || k == TK_LBRACE) depth++;
+    else if ((k == TK_RPAREN || k == TK_RBRACKET || k == TK_RBRACE) && depth > 0) {
+      depth--;
+      if (depth == 0 && k == TK_RBRACE) { next_token(p); break; }
+    } else if (k == TK_SEMI && depth == 0) { next_token(p); break; }
+    next_token(p);
+  }
+  p->panic = 0;
+}
+
+/* items := { item }   — up to a closing `}` (not consumed) or end of file */
+static void parse_items(Parser *p, AstList *out) {
+  while (!check(p, TK_RBRACE) && !check(p, TK_EOF) && !p->stop) {
+    AstNode *it = parse_item(p);
+    push(p, out, it);
+    if (p->panic) synchronize(p);
+  }
+}
+
+/* braced := '{' items '}' */
+static void parse_braced(Parser *p, AstList *out, const char *what) {
+  Token open = p->cur;
+  if (!expect(p, TK_LBRACE, what)) return;
+  if (!enter(p, open.range)) return;
+  parse_items(p, out);
+  leave(p);
+  if (p->stop) return;
+  p->panic = 0;
+  expect_close(p, TK_RBRACE, &open, "block");
+}
+
+/* body := braced | item */
+static void parse_body(Parser *p, AstList *out) {
+  if (check(p, TK_LBRACE)) { parse_braced(p, out, ""); return; }
+  if (!enter(p, p->cur.range)) return;
+  push(p, out, parse_item(p));
+  leave(p);
+}
+
+static void end_statement(Parser *p, const char *what) {
+  if (!p->panic) expect(p, TK_SEMI, what);
+}
+
+/* include := 'include' STRING ';' ;  use := 'use' STRING 'as' IDENT ';' */
+static AstNode *parse_include(Parser *p) {
+  SrcRange start = p->cur.range;
+  int is_use = check(p, TK_USE);
+  next_token(p);
+  AstNode *n = node(p, is_use ? AST_USE : AST_INCLUDE, start);
+  if (!check(p, TK_STRING)) { expected(p, TK_STRING, is_use ? "(a file name) after `use`" : "(a file name) after `include`"); return n; }
+  n->name = p->cur.string;
+  next_token(p);
+  if (is_use) {
+    expect(p, TK_AS, "after the file name (`use \"file.npr\" as name;`)");
+    if (!p->panic && !check(p, TK_IDENT)) expected(p, TK_IDENT, "(the namespace name) after `as`");
+    if (!p->panic) {
+      n->a = node(p, AST_IDENT, p->cur.range);
+      n->a->name = p->cur.string;
+      next_token(p);
+    }
+  }
+  end_statement(p, is_use ? "after a `use` statement" : "after an `include` statement");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* let_stmt := 'let' IDENT '=' expr ';' */
+static AstNode *parse_let(Parser *p) {
+  SrcRange start = p->cur.range;
+  next_token(p);
+  AstNode *n = node(p, AST_LET, start);
+  if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a name) after `let`"); return n; }
+  n->name = p->cur.string;
+  next_token(p);
+  expect(p, TK_ASSIGN, "after the name in a `let`");
+  if (!p->panic) n->a = parse_expr(p);
+  end_statement(p, "after a `let` statement");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* fn_def := 'fn' IDENT params '=' expr ';' */
+static AstNode *parse_fn_def(Parser *p) {
+  SrcRange start = p->cur.range;
+  next_token(p);
+  AstNode *n = node(p, AST_FN_DEF, start);
+  if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(the function's name) after `fn`"); return n; }
+  n->name = p->cur.string;
+  next_token(p);
+  parse_params(p, &n->list);
+  if (!p->panic) expect(p, TK_ASSIGN, "before the function body");
+  if (!p->panic) n->a = parse_expr(p);
+  end_statement(p, "after a function definition");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* module_def := 'module' IDENT params braced */
+static AstNode *parse_module_def(Parser *p) {
+  SrcRange start = p->cur.range;
+  next_token(p);
+  AstNode *n = node(p, AST_MODULE_DEF, start);
+  if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(the module's name) after `module`"); return n; }
+  n->name = p->cur.string;
+  next_token(p);
+  parse_params(p, &n->list);
+  if (!p->panic) parse_braced(p, &n->list2, "to start the module body");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* for_stmt := 'for' '(' bindings ')' body */
+static AstNode *parse_for(Parser *p) {
+  SrcRange start = p->cur.range;
+  next_token(p);
+  AstNode *n = node(p, AST_FOR, start);
+  Token open = p->cur;
+  expect(p, TK_LPAREN, "after `for`");
+  if (!p->panic) parse_bindings(p, &n->list);
+  if (!p->panic) expect_close(p, TK_RPAREN, &open, "`for` bindings");
+  if (!p->panic) parse_body(p, &n->list2);
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* if_stmt := 'if' '(' expr ')' body [ 'else' body ] */
+static AstNode *parse_if(Parser *p) {
+  SrcRange start = p->cur.range;
+  next_token(p);
+  AstNode *n = node(p, AST_IF, start);
+  Token open = p->cur;
+  expect(p, TK_LPAREN, "after `if`");
+  if (!p->panic) n->a = parse_expr(p);
+  if (!p->panic) expect_close(p, TK_RPAREN, &open, "`if` condition");
+  if (!p->panic) parse_body(p, &n->list);
+  if (!p->panic && accept(p, TK_ELSE)) {
+    n->has_else = 1;
+    parse_body(p, &n->list2);
+  }
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* block := IDENT { IDENT } braced */
+static AstNode *parse_block(Parser *p) {
+  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_BLOCK, start);
+  n->name = p->cur.string;
+  next_token(p);
+  while (check(p, TK_IDENT)) {
+    AstNode *w = node(p, AST_IDENT, p->cur.range);
+    w->name = p->cur.string;
+    push(p, &n->list2, w);
+    next_token(p);
+  }
+  parse_braced(p, &n->list, "to open the block");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* call_stmt := postfix ( ';' | braced )      (starts with IDENT '(') */
+static AstNode *parse_call_stmt(Parser *p) {
+  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_CALL_STMT, start);
+  n->a = parse_postfix(p);
+  if (!p->panic && check(p, TK_LBRACE)) {
+    n->has_body = 1;
+    parse_braced(p, &n->list2, "");
+  } else end_statement(p, "after a call");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* property := IDENT [ expr { ',' expr } ] ';' */
+static AstNode *parse_property(Parser *p) {
+  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_PROPERTY, start);
+  n->name = p->cur.string;
+  next_token(p);
+  if (check(p, TK_ASSIGN)) {
+    error_at(p, p->cur.range, "unexpected `=` after `%s`: a definition needs `let` (`let %s = …;`)", n->name, n->name);
+    return n;
+  }
+  if (!check(p, TK_SEMI)) {
+    do push(p, &n->list, parse_expr(p));
+    while (!p->panic && !p->stop && accept(p, TK_COMMA));
+  }
+  end_statement(p, "after a property");
+  n->range = span_from(p, start);
+  return n;
+}
+
+/* Does the identifier at cur start a block (IDENT { IDENT } '{')? Looks
+** ahead with a quiet copy of the lexer, so nothing is consumed or reported. */
+static int starts_block(Parser *p) {
+  Token *t = peek(p);
+  if (t->kind == TK_LBRACE) return 1;
+  if (t->kind != TK_IDENT) return 0;
+  Lexer scout = p->lx;
+  scout.quiet = 1;
+  for (;;) {
+    Token u = lex_next(&scout);
+    if (u.kind == TK_LBRACE) return 1;
+    if (u.kind != TK_IDENT) return 0;
+  }
+}
+
+/* item := include | use | let_stmt | fn_def | module_def | for_stmt | if_stmt
+**       | block | call_stmt | property | ';' */
+static AstNode *parse_item(Parser *p) {
+  switch (p->cur.kind) {
+    case TK_INCLUDE: case TK_USE: return parse_include(p);
+    case TK_LET: return parse_let(p);
+    case TK_FN: return parse_fn_def(p);
+    case TK_MODULE: return parse_module_def(p);
+    case TK_FOR: return parse_for(p);
+    case TK_IF: return parse_if(p);
+    case TK_SEMI: next_token(p); return NULL;   /* an empty statement */
+    case TK_IDENT:
+      if (starts_block(p)) return parse_block(p);
+      if (peek(p)->kind == TK_LPAREN) return parse_call_stmt(p);
+      return parse_property(p);
+    case TK_ELSE:
+      error_at(p, p->cur.range, "`else` without a matching `if`");
+      return NULL;
+    default:
+      error_at(p, p->cur.range, "expected a statement, a block or a property, found %s", found(p));
+      return NULL;
+  }
+}
+
+/* program := items EOF */
+AstNode *parse_file(int file, Arena *arena) {
+  Parser p;
+  memset(&p, 0, sizeof p);
+  lex_init(&p.lx, file, arena);
+  p.arena = arena;
+  p.prev_end = src_none();
+  p.cur = lex_next(&p.lx);
+  AstNode *prog = node(&p, AST_PROGRAM, p.cur.range);
+  prog->range.line = prog->range.col = 1;
+  while (!check(&p, TK_EOF) && !p.stop) {
+    parse_items(&p, &prog->list);
+    if (check(&p, TK_RBRACE)) {
+      error_at(&p, p.cur.range, "unexpected `}` with no block to close");
+      next_token(&p);
+      p.panic = 0;
+    }
+  }
+  prog->range.end_line = p.cur.range.line;
+  prog->range.end_col = p.cur.range.col;
+  return prog;
+}
+
+/* expr_source := expr EOF      (for -D name=value) */
+AstNode *parse_expression_file(int file, Arena *arena) {
+  Parser p;
+  memset(&p, 0, sizeof p);
+  lex_init(&p.lx, file, arena);
+  p.arena = arena;
+  p.prev_end = src_none();
+  int errors_before = diag_error_count();
+  p.cur = lex_next(&p.lx);
+  AstNode *e = parse_expr(&p);
+  if (!p.panic && !p.stop && !check(&p, TK_EOF))
+    error_at(&p, p.cur.range, "unexpected %s after the value", found(&p));
+  return (p.errors || p.stop || diag_error_count() > errors_before) ? NULL : e;
+}

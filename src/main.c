@@ -1,0 +1,188 @@
+/*
+** The `sumi` command line: subcommands, options and exit codes.
+**
+**   0  success (warnings allowed)
+**   1  a diagnostic: the scene, or a file it names, is bad
+**   2  bad usage: unknown option, missing argument
+*/
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/mem.h"
+#include "lang/ast.h"
+#include "lang/diag.h"
+#include "lang/parse.h"
+
+#define SUMI_VERSION "0.1.0"
+
+/* Everything the command line can say; each subcommand reads what it needs. */
+typedef struct Options {
+  const char *command;
+  const char *input;
+  const char *output;
+  int ast, scene, compare, stats, quiet;
+  int width, height, threads;
+  const char *frames, *aov, *tile;
+  const char **defines; int ndefines;
+  const char **include_dirs; int ninclude_dirs;
+  long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
+} Options;
+
+/* Limit options, in the order of Options.limits. */
+static const char *const limit_options[] = {
+  "--max-recursion", "--max-iterations", "--max-list", "--max-memory-mb", NULL,
+};
+
+static void usage(FILE *out) {
+  fputs(
+    "usage: sumi COMMAND FILE [options]      (FILE may be - for standard input)\n"
+    "\n"
+    "commands:\n"
+    "  render FILE -o OUT   render the scene to an image (png, tif, exr, jpg) or svg\n"
+    "  check FILE           parse and evaluate; print diagnostics only\n"
+    "  parse FILE [--ast]   parse only; --ast prints the syntax tree\n"
+    "  eval FILE --scene    print the evaluated scene as text\n"
+    "  faces FILE           list the faces of every origami block\n"
+    "  refine FILE --compare  compare our tessellation with OpenSubdiv's limit surface\n"
+    "\n"
+    "options:\n"
+    "  -o FILE              output file\n"
+    "  -W N, -H N           image width / height (one alone keeps the aspect ratio)\n"
+    "  -D name=value        override a top-level let (value is an expression)\n"
+    "  -I DIR               add an include folder\n"
+    "  --frames A:B         render frames A..B (clock runs 0..1)\n"
+    "  --tile I/N           render tile I of N\n"
+    "  --threads N          worker threads (output is identical at any count)\n"
+    "  --stats              print per-stage times and peak memory\n"
+    "  --aov LIST           also write depth,normal,object,face passes\n"
+    "  --diagnostics json   diagnostics as JSON lines (default: text)\n"
+    "  --max-recursion N, --max-iterations N, --max-list N, --max-memory-mb N\n"
+    "                       evaluation limits\n"
+    "  --quiet              no progress output\n"
+    "  -h, --help           this text\n"
+    "  --version            the version\n", out);
+}
+
+static _Noreturn void bad_usage(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static _Noreturn void bad_usage(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fputs("sumi: ", stderr);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputs("\nTry `sumi --help`.\n", stderr);
+  exit(2);
+}
+
+static int parse_int_arg(const char *opt, const char *v, long lo, long hi) {
+  char *end;
+  errno = 0;
+  long n = strtol(v, &end, 10);
+  if (errno || *end || end == v || n < lo || n > hi) {
+    fprintf(stderr, "sumi: %s needs a whole number from %ld to %ld, got `%s`\nTry `sumi --help`.\n", opt, lo, hi, v);
+    exit(2);
+  }
+  return (int)n;
+}
+
+static const char **push_str(const char **list, int *n, const char *s) {
+  list = xrealloc((void *)list, (size_t)(*n + 1) * sizeof *list);
+  list[(*n)++] = s;
+  return list;
+}
+
+static void parse_options(int argc, char **argv, Options *o) {
+  DiagFormat fmt = DIAG_TEXT;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED_VALUE() do { if (!v) bad_usage("option `%s` needs a value", a); i++; } while (0)
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) { usage(stdout); exit(0); }
+    else if (!strcmp(a, "--version")) { printf("sumi %s\n", SUMI_VERSION); exit(0); }
+    else if (!strcmp(a, "--ast")) o->ast = 1;
+    else if (!strcmp(a, "--scene")) o->scene = 1;
+    else if (!strcmp(a, "--compare")) o->compare = 1;
+    else if (!strcmp(a, "--stats")) o->stats = 1;
+    else if (!strcmp(a, "--quiet")) o->quiet = 1;
+    else if (!strcmp(a, "-o")) { NEED_VALUE(); o->output = v; }
+    else if (!strcmp(a, "-W")) { NEED_VALUE(); o->width = parse_int_arg(a, v, 1, 32768); }
+    else if (!strcmp(a, "-H")) { NEED_VALUE(); o->height = parse_int_arg(a, v, 1, 32768); }
+    else if (!strcmp(a, "--threads")) { NEED_VALUE(); o->threads = parse_int_arg(a, v, 1, 256); }
+    else if (!strcmp(a, "-D")) { NEED_VALUE(); o->defines = push_str(o->defines, &o->ndefines, v); }
+    else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
+    else if (!strcmp(a, "--frames")) { NEED_VALUE(); o->frames = v; }
+    else if (!strcmp(a, "--tile")) { NEED_VALUE(); o->tile = v; }
+    else if (!strcmp(a, "--aov")) { NEED_VALUE(); o->aov = v; }
+    else if (!strcmp(a, "--diagnostics")) {
+      NEED_VALUE();
+      if (!strcmp(v, "json")) fmt = DIAG_JSON;
+      else if (!strcmp(v, "text")) fmt = DIAG_TEXT;
+      else bad_usage("--diagnostics takes `text` or `json`, not `%s`", v);
+    } else if (a[0] == '-' && a[1] == '-' && strncmp(a, "--max-", 6) == 0) {
+      int k = 0;
+      while (limit_options[k] && strcmp(limit_options[k], a)) k++;
+      if (!limit_options[k]) bad_usage("unknown option `%s`", a);
+      NEED_VALUE();
+      o->limits[k] = parse_int_arg(a, v, 1, 2000000000);
+    } else if (a[0] == '-' && a[1] != '\0') bad_usage("unknown option `%s`", a);
+    else if (!o->command) o->command = a;
+    else if (!o->input) o->input = a;
+    else bad_usage("unexpected argument `%s` (one input file only)", a);
+#undef NEED_VALUE
+  }
+  if (!o->command) { usage(stderr); exit(2); }
+  diag_init(fmt);
+}
+
+/* Load and parse the input; NULL (after diagnostics) when it cannot be read. */
+static AstNode *load_and_parse(const Options *o, Arena *arena, int *file) {
+  const char *why;
+  *file = diag_load_file(o->input, -1, src_none(), &why);
+  if (*file < 0) {
+    fprintf(stderr, "sumi: cannot read `%s`: %s\n", o->input, why);
+    return NULL;
+  }
+  return parse_file(*file, arena);
+}
+
+/* sumi parse FILE [--ast] */
+static int cmd_parse(const Options *o) {
+  Arena arena;
+  arena_init(&arena);
+  int file;
+  AstNode *prog = load_and_parse(o, &arena, &file);
+  int status = !prog || diag_error_count() ? 1 : 0;
+  if (prog && o->ast && !status) ast_print(prog, stdout);
+  arena_free(&arena);
+  return status;
+}
+
+typedef struct Command {
+  const char *name;
+  int (*run)(const Options *o);
+  int needs_output;
+} Command;
+
+static const Command commands[] = {
+  {"parse", cmd_parse, 0},
+};
+
+int main(int argc, char **argv) {
+  Options o;
+  memset(&o, 0, sizeof o);
+  parse_options(argc, argv, &o);
+  const Command *cmd = NULL;
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+    if (!strcmp(commands[i].name, o.command)) cmd = &commands[i];
+  if (!cmd) bad_usage("unknown command `%s`", o.command);
+  if (!o.input) bad_usage("`sumi %s` needs an input file (or - for standard input)", o.command);
+  if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
+  int status = cmd->run(&o);
+  diag_shutdown();
+  free((void *)o.defines);
+  free((void *)o.include_dirs);
+  return status;
+}

@@ -1,0 +1,66 @@
+/*
+** Important edges (Brown & Arandjelovic, 001 §2.1.1): per object, which
+** mesh edges are silhouettes, creases, boundaries or polygon (face) edges
+** for the current view, each given a global id for the reference image.
+** Also the per-object data the later line stages share: vertices projected
+** into the reference image and the vertex -> edge graph used for linking.
+*/
+#ifndef render_edges_h
+#define render_edges_h
+
+#include "../geom/mesh.h"
+#include "../scene/scene.h"
+#include "camera.h"
+
+/* One object as the line stages see it. lines NULL (or !present) makes it
+** an occluder only. */
+typedef struct LineObject {
+  const Mesh *mesh;
+  Mat4 object_to_world;
+  const SceneLines *lines;
+  int id;                  /* object id: keys the random streams, names SVG groups */
+  Color fill;              /* linear; the SVG fills the object's visible region with it */
+} LineObject;
+
+/* A vertex in the reference image: clip coordinates and, when in front of
+** the camera (w > 0), its pixel position. */
+typedef struct LineVert {
+  double clip[4];
+  float x, y;              /* reference-image pixels (meaningless when clip[3] <= 0) */
+} LineVert;
+
+/* Per-object edge data, built by line_edges_build. */
+typedef struct LineObjEdges {
+  const Mesh *mesh;
+  const SceneLines *lines; /* NULL when the object draws no lines */
+  LineVert *vert;          /* mesh->nverts projected vertices */
+  int *id;                 /* per mesh edge: global id (1-based), 0 = not important */
+  int *adj_start;          /* nverts + 1 offsets into adj: the vertex -> edge graph */
+  int *adj;                /* incident mesh edges of each vertex, in edge order */
+} LineObjEdges;
+
+/* Every important edge of every object; id i + 1 is entry i. */
+typedef struct LineEdges {
+  int nobj;
+  LineObjEdges *obj;
+  int n;                   /* important edges */
+  int *obj_of;             /* object index of id i + 1 */
+  int *edge_of;            /* mesh edge of id i + 1 */
+  unsigned char *kind;     /* EdgeKindBits that made it important */
+} LineEdges;
+
+/* Classify the edges of objs[0..nobj) seen by cam (the reference camera:
+** vertices are projected into its pixels) into *out. Objects without lines
+** get no ids but are projected (they still occlude). Every mesh must have
+** its topology built (mesh_build_edges). Free with line_edges_free. */
+void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam);
+void line_edges_free(LineEdges *e);
+
+/* The kinds (EdgeKindBits, restricted to the style's kinds) that make mesh
+** edge e important for a viewer at eye (perspective) or looking along
+** forward (ortho); world holds the mesh's world positions and fn its unit
+** world face normals (zero for a degenerate face). Exposed for tests. */
+unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
+                        const SceneLines *ls, const Camera *cam);
+
+#endif
