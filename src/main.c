@@ -160,6 +160,19 @@ static int cmd_parse(const Options *o) {
   return status;
 }
 
+/* sumi check FILE: parse and evaluate, diagnostics only. */
+static int cmd_check(const Options *o) {
+  Arena arena;
+  arena_init(&arena);
+  int file;
+  AstNode *prog = load_and_parse(o, &arena, &file);
+  int status = !prog || diag_error_count() ? 1 : 0;
+  if (prog && !status && prog->list.count == 0)
+    diag_warning(prog->range, "`%s` is empty: there is nothing to render", diag_file(file)->name);
+  arena_free(&arena);
+  return status;
+}
+
 typedef struct Command {
   const char *name;
   int (*run)(const Options *o);
@@ -168,6 +181,7 @@ typedef struct Command {
 
 static const Command commands[] = {
   {"parse", cmd_parse, 0},
+  {"check", cmd_check, 0},
 };
 
 int main(int argc, char **argv) {

@@ -274,6 +274,7 @@ static void lex_stray(Lexer *lx) {
   if (n == 0) snprintf(what, sizeof what, "invalid UTF-8 byte 0x%02x", (unsigned char)*lx->p);
   else if (cp == 0) snprintf(what, sizeof what, "NUL byte");
   else if (cp < 0x20 || cp == 0x7F) snprintf(what, sizeof what, "unexpected control character U+%04X", (unsigned)cp);
+  else if (cp == '`') snprintf(what, sizeof what, "unexpected backtick (U+0060)");
   else snprintf(what, sizeof what, "unexpected character `%.*s` (U+%04X)", n, lx->p, (unsigned)cp);
   lex_error(lx, r, what);
   advance(lx);
@@ -319,13 +320,13 @@ static int lex_operator(Lexer *lx, Token *t) {
 
 Token lex_next(Lexer *lx) {
   Token t;
+  int errors_before = lx->errors;   /* a stray character before it counts too */
   for (;;) {
     skip_space(lx);
     memset(&t, 0, sizeof t);
     t.range = here(lx);
     t.start = lx->p;
     int c = peekc(lx);
-    int errors_before = lx->errors;
     if (c < 0) {
       t.kind = TK_EOF;
       t.range.end_col = t.range.col;

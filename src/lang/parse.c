@@ -84,7 +84,7 @@ static void error_at(Parser *p, SrcRange at, const char *fmt, ...) {
 /* "expected `;` after …": when the offending token is on a later line, point
 ** just past the previous token, where the `;` is missing. */
 static void expected(Parser *p, TokenKind k, const char *context) {
-  if (p->prev_bad) { p->panic = 1; return; }   /* the lexer already said what is wrong */
+  if (p->prev_bad || p->cur.bad) { p->panic = 1; return; }   /* the lexer already said what is wrong */
   SrcRange at = p->cur.range;
   if (p->cur.range.line > p->prev_end.line && p->prev_end.file >= 0) at = p->prev_end;
   error_at(p, at, "expected %s %s, found %s", token_name(k), context, found(p));
@@ -111,7 +111,7 @@ static int expect_close(Parser *p, TokenKind k, const Token *open, const char *w
 static int enter(Parser *p, SrcRange at) {
   if (p->stop) return 0;
   if (++p->depth > PARSE_MAX_DEPTH) {
-    diag_error(at, "nesting too deep (limit is %d levels of brackets, blocks and operators)", PARSE_MAX_DEPTH);
+    diag_error(at, "expression or block nested too deeply (limit is %d levels)", PARSE_MAX_DEPTH);
     p->stop = 1;
     return 0;
   }
@@ -315,6 +315,7 @@ static AstNode *parse_primary(Parser *p) {
       n->range = span_from(p, t.range);
       return n;
     default:
+      if (t.bad) p->panic = 1;   /* the lexer already reported it */
       error_at(p, t.range, "expected an expression, found %s", found(p));
       return bad_expr(p);
   }
@@ -674,6 +675,7 @@ static AstNode *parse_item(Parser *p) {
       error_at(p, p->cur.range, "`else` without a matching `if`");
       return NULL;
     default:
+      if (p->cur.bad) p->panic = 1;
       error_at(p, p->cur.range, "expected a statement, a block or a property, found %s", found(p));
       return NULL;
   }

@@ -9,7 +9,7 @@
 
 /* Deepest nesting of expressions and blocks before a diagnostic (keeps the
 ** recursive descent far from the C stack's end on any input). */
-#define PARSE_MAX_DEPTH 256
+#define PARSE_MAX_DEPTH 512
 
 /* Parse the source registered as diag file `file` into an AST allocated in
 ** arena. Always returns a program node (possibly partial); errors were

@@ -1,0 +1,94 @@
+#!/bin/sh
+# Runs every test suite and ends with the line CI reads: "N passed, N failed".
+#
+#   tests/parse/x.npr   -> x.ast  exact text of `sumi parse x.npr --ast`
+#   tests/errors/x.npr  -> x.err  "exit: N", then stdout and stderr of `sumi check x.npr`
+#   tests/eval/x.npr    -> x.out  "exit: N", then stdout and stderr of `sumi eval x.npr --scene`
+#   tests/render/x.npr  -> x.png  golden image, compared by imgcmp with a tolerance
+#   build/unit/test_*               C unit tests, each printing "N passed, N failed"
+#
+# A first line "// args: ..." gives extra options; in render tests a line
+# "// tolerance: --max-diff N --max-frac F" overrides the default tolerance.
+# UPDATE=1 rewrites the text snapshots, UPDATE_GOLDEN=1 the golden images.
+
+BUILD=${BUILD:-build}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+SUMI="$ROOT/$BUILD/sumi"
+OUT="$ROOT/$BUILD/test-out"
+mkdir -p "$OUT"
+passed=0; failed=0; skipped=0
+
+pass() { passed=$((passed + 1)); }
+fail() { failed=$((failed + 1)); echo "FAIL $1"; }
+
+args_of() { sed -n '1s|^// args: *||p' "$1"; }
+
+# An existing suite folder with no cases is a broken suite.
+cases() {
+  if [ -d "$ROOT/tests/$1" ] && ! ls "$ROOT/tests/$1"/*.npr >/dev/null 2>&1; then
+    fail "$1 (suite has no cases)"
+  fi
+}
+
+# check_text SUITE EXPECTED_EXT COMMAND...  (runs in the suite folder)
+check_text() {
+  suite=$1; ext=$2; shift 2
+  cases "$suite"
+  for f in "$ROOT/tests/$suite"/*.npr; do
+    [ -e "$f" ] || continue
+    name=$(basename "$f" .npr)
+    exp="$ROOT/tests/$suite/$name.$ext"
+    got="$OUT/$suite.$name.$ext"
+    # shellcheck disable=SC2046
+    (cd "$ROOT/tests/$suite" && "$@" "$name.npr" $(args_of "$f") >"$got.stdout" 2>"$got.stderr"
+     echo "exit: $?" >"$got"; cat "$got.stdout" "$got.stderr" >>"$got")
+    if [ "$suite" = parse ]; then tail -n +2 "$got" >"$got.body"; mv "$got.body" "$got"; fi
+    if [ -n "$UPDATE" ]; then cp "$got" "$exp"; fi
+    if [ -f "$exp" ] && cmp -s "$got" "$exp"; then pass
+    else
+      fail "$suite/$name"
+      if [ -f "$exp" ]; then diff -u "$exp" "$got" | head -20; else echo "  (no $name.$ext: run make update-snapshots)"; fi
+    fi
+  done
+}
+
+check_text parse ast "$SUMI" parse --ast
+check_text errors err "$SUMI" check
+check_text eval out "$SUMI" eval --scene
+
+# Render snapshots.
+cases render
+for f in "$ROOT"/tests/render/*.npr; do
+  [ -e "$f" ] || continue
+  name=$(basename "$f" .npr)
+  golden="$ROOT/tests/render/$name.png"
+  tol=$(sed -n 's|^// tolerance: *||p' "$f" | head -1)
+  # shellcheck disable=SC2046
+  if ! (cd "$ROOT/tests/render" && "$SUMI" render "$name.npr" -o "$OUT/$name.png" $(args_of "$f") >"$OUT/$name.log" 2>&1); then
+    fail "render/$name (render failed)"; sed 's/^/  /' "$OUT/$name.log" | head -10; continue
+  fi
+  if [ -n "$UPDATE_GOLDEN" ]; then cp "$OUT/$name.png" "$golden"; fi
+  # shellcheck disable=SC2086
+  if [ -f "$golden" ] && "$ROOT/$BUILD/imgcmp" "$golden" "$OUT/$name.png" "$OUT/$name.diff.png" $tol >"$OUT/$name.cmp" 2>&1; then pass
+  else
+    fail "render/$name"; sed 's/^/  /' "$OUT/$name.cmp" 2>/dev/null
+    echo "  got: $OUT/$name.png  diff: $OUT/$name.diff.png"
+  fi
+done
+
+# Unit tests: each binary reports its own count.
+for t in "$ROOT/$BUILD"/unit/test_*; do
+  [ -x "$t" ] || continue
+  line=$(cd "$ROOT" && "$t" 2>"$OUT/$(basename "$t").stderr" | tail -1)
+  status=$?
+  p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
+  q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
+  s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
+  if [ -z "$p" ]; then fail "unit/$(basename "$t") (crashed or printed no count)"; cat "$OUT/$(basename "$t").stderr" | head -20; continue; fi
+  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
+  if [ "$q" != 0 ]; then echo "FAIL unit/$(basename "$t")"; head -20 "$OUT/$(basename "$t").stderr"; fi
+done
+
+if [ "$skipped" -gt 0 ]; then echo "$passed passed, $failed failed, $skipped skipped"
+else echo "$passed passed, $failed failed"; fi
+[ "$failed" -eq 0 ]
