@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "base/mem.h"
 #include "lang/ast.h"
@@ -137,6 +138,12 @@ static void parse_options(int argc, char **argv, Options *o) {
   diag_init(fmt);
 }
 
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
 /* Load and parse the input; NULL (after diagnostics) when it cannot be read. */
 static AstNode *load_and_parse(const Options *o, Arena *arena, int *file) {
   const char *why;
@@ -153,8 +160,12 @@ static int cmd_parse(const Options *o) {
   Arena arena;
   arena_init(&arena);
   int file;
+  double t0 = now_seconds();
   AstNode *prog = load_and_parse(o, &arena, &file);
   int status = !prog || diag_error_count() ? 1 : 0;
+  if (o->stats && file >= 0)
+    fprintf(stderr, "stats: parse %.1f ms, %.1f MB source, %.1f MB syntax tree\n", (now_seconds() - t0) * 1e3,
+            diag_file(file)->len / 1e6, arena.used_total / 1e6);
   if (prog && o->ast && !status) ast_print(prog, stdout);
   arena_free(&arena);
   return status;

@@ -10,6 +10,7 @@
 #include "ast.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,8 +22,11 @@ static const char *const ast_kind_names[] = {AST_LIST_KINDS(AST_NAME)};
 const char *ast_kind_name(AstKind k) { return k < AST_KIND_COUNT ? ast_kind_names[k] : "?"; }
 
 AstNode *ast_new(Arena *arena, AstKind kind, SrcRange range) {
-  AstNode *n = arena_alloc(arena, sizeof *n);
-  n->kind = kind;
+  size_t size = ast_is_leaf(kind)     ? offsetof(AstNode, a)
+                : !ast_has_lists(kind) ? offsetof(AstNode, list)
+                                       : sizeof(AstNode);
+  AstNode *n = arena_alloc(arena, size);
+  n->kind = (unsigned char)kind;
   n->range = range;
   return n;
 }
@@ -62,7 +66,7 @@ static const char *op_text(TokenKind op) {
 }
 
 static void print_detail(const AstNode *n, FILE *out) {
-  switch (n->kind) {
+  switch ((AstKind)n->kind) {
     case AST_NUMBER: fputc(' ', out); print_number(n->number, out); break;
     case AST_STRING: case AST_INCLUDE: case AST_USE: fputc(' ', out); print_string(n->name, out); break;
     case AST_COLOR:
@@ -78,8 +82,12 @@ static void print_detail(const AstNode *n, FILE *out) {
       for (int i = 0; i < n->list2.count; i++) fprintf(out, " %s", n->list2.items[i]->name);
       break;
     case AST_RANGE: if (n->b) fputs(" stepped", out); break;
-    default:
+    case AST_IDENT: case AST_PROGRAM: case AST_LET: case AST_FN_DEF: case AST_MODULE_DEF:
+    case AST_PARAM: case AST_BINDING: case AST_PROPERTY:
       if (n->name) fprintf(out, " %s", n->name);
+      break;
+    default:
+      break;
   }
 }
 
@@ -99,6 +107,7 @@ static void print_node(const AstNode *n, int depth, FILE *out) {
   fprintf(out, "%*s%s", depth * 2, "", ast_kind_name(n->kind));
   print_detail(n, out);
   fprintf(out, " @%d:%d-%d:%d\n", n->range.line, n->range.col, n->range.end_line, n->range.end_col);
+  if (ast_is_leaf(n->kind)) return;
   if (n->kind == AST_RANGE) {   /* start, [step,] end in source order */
     print_node(n->a, depth + 1, out);
     if (n->b) print_node(n->b, depth + 1, out);
@@ -113,6 +122,7 @@ static void print_node(const AstNode *n, int depth, FILE *out) {
   else if (n->a) fprintf(out, "%*sas %s\n", (depth + 1) * 2, "", n->a->name);
   if (n->b) print_node(n->b, depth + 1, out);
   if (n->c) print_node(n->c, depth + 1, out);
+  if (!ast_has_lists(n->kind)) return;
   switch (n->kind) {
     case AST_IF:
       print_section("then", &n->list, depth + 1, out);

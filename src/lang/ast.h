@@ -8,7 +8,7 @@
 **   AST_PROGRAM     list: statements / items
 **   AST_NUMBER      number
 **   AST_STRING      name: decoded text (NUL-terminated; escapes resolved)
-**   AST_COLOR       color[4]: sRGB components in [0, 1] (alpha 1 unless given)
+**   AST_COLOR       color[0..3]: sRGB components in [0, 1] (alpha 1 unless given)
 **   AST_BOOL        number: 1 or 0
 **   AST_UNDEF       -
 **   AST_IDENT       name
@@ -78,17 +78,38 @@ typedef struct AstList {
   int count;
 } AstList;
 
+/* Nodes come in three sizes, so a number in a long point list costs about
+** 40 bytes (see make bench-parse). Read only the fields the table above
+** gives for a node's kind:
+**   leaves (AST_NUMBER … AST_IDENT): the header, up to the union;
+**   kinds without lists (ast_has_lists false): also a, b, c;
+**   the rest: everything. */
 struct AstNode {
-  AstKind kind;
-  SrcRange range;
-  const char *name;
-  double number;
-  float color[4];
-  TokenKind op;
+  unsigned char kind;           /* AstKind */
+  unsigned char op;             /* TokenKind of an operator */
   unsigned char has_body, has_else;
+  SrcRange range;
+  union {                       /* which one: the table above */
+    const char *name;
+    double number;
+    const float *color;         /* 4 floats in the arena */
+  };
+  /* interior nodes only */
   AstNode *a, *b, *c;
   AstList list, list2;
 };
+
+static inline int ast_is_leaf(AstKind k) { return k >= AST_NUMBER && k <= AST_IDENT; }
+static inline int ast_has_lists(AstKind k) {
+  switch (k) {
+    case AST_PROGRAM: case AST_LIST: case AST_CALL: case AST_LET_EXPR: case AST_FN_EXPR:
+    case AST_COMP_FOR: case AST_COMP_LET: case AST_FN_DEF: case AST_MODULE_DEF:
+    case AST_CALL_STMT: case AST_FOR: case AST_IF: case AST_BLOCK: case AST_PROPERTY:
+      return 1;
+    default:
+      return 0;
+  }
+}
 
 AstNode *ast_new(Arena *arena, AstKind kind, SrcRange range);
 const char *ast_kind_name(AstKind k);

@@ -44,7 +44,13 @@ static int peekc(const Lexer *lx) { return at_end(lx) ? -1 : (unsigned char)*lx-
 static int peekc2(const Lexer *lx) { return lx->p + 1 < lx->end ? (unsigned char)lx->p[1] : -1; }
 
 /* Advance one character (one code point, or one invalid byte). */
-static void advance(Lexer *lx) {
+static inline void advance(Lexer *lx) {
+  if ((unsigned char)*lx->p < 0x80) {   /* ASCII: the common case */
+    if (*lx->p == '\n') { lx->line++; lx->col = 1; }
+    else lx->col++;
+    lx->p++;
+    return;
+  }
   uint32_t cp;
   int n = utf8_decode((const unsigned char *)lx->p, (const unsigned char *)lx->end, &cp);
   if (n == 0) n = 1;
@@ -124,17 +130,18 @@ static void lex_number(Lexer *lx, Token *t) {
   t->kind = TK_NUMBER;
   t->range = from(lx, t->range.line, t->range.col);
   int len = (int)(lx->p - start);
-  char *text = arena_strndup(lx->arena, start, (size_t)len);
   if (!ok) {
     lx->errors++;
-    if (!lx->quiet) diag_error(t->range, "invalid number `%s`", text);
+    if (!lx->quiet) diag_error(t->range, "invalid number `%.*s`", len, start);
     t->number = 0;
     return;
   }
-  t->number = strtod(text, NULL);
+  /* The token is a complete, valid number and the source ends in a NUL, so
+  ** strtod stops exactly at its end: no copy needed. */
+  t->number = strtod(start, NULL);
   if (!isfinite(t->number)) {
     lx->errors++;
-    if (!lx->quiet) diag_error(t->range, "number `%s` is too large", text);
+    if (!lx->quiet) diag_error(t->range, "number `%.*s` is too large", len, start);
     t->number = 0;
   }
 }

@@ -14,6 +14,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 typedef struct Parser {
@@ -28,6 +29,8 @@ typedef struct Parser {
   int stop;           /* nesting limit hit or too many errors: unwind */
   int panic;          /* an error in the current item: skip to a sync point */
   int errors;
+  AstNode **scratch;  /* children of the lists being built, innermost on top */
+  int nscratch, capscratch;
 } Parser;
 
 /* ---- tokens ------------------------------------------------------------ */
@@ -122,17 +125,26 @@ static void leave(Parser *p) { p->depth--; }
 
 static AstNode *node(Parser *p, AstKind k, SrcRange r) { return ast_new(p->arena, k, r); }
 
-/* Append to a list (arrays double; the arena keeps the old copies until the
-** parse ends, which is cheap next to the tokens themselves). */
-static void push(Parser *p, AstList *l, AstNode *n) {
+/* Lists are gathered on a scratch stack and copied into the arena at their
+** exact size when complete: begin_list() marks the start, push() adds a
+** child, end_list() stores them. Nested lists stack above their parent's. */
+static int begin_list(Parser *p) { return p->nscratch; }
+
+static void push(Parser *p, AstNode *n) {
   if (!n) return;
-  if ((l->count & (l->count - 1)) == 0) {   /* count is 0 or a power of two: grow */
-    int cap = l->count ? l->count * 2 : 2;
-    AstNode **items = arena_alloc(p->arena, (size_t)cap * sizeof *items);
-    if (l->count) memcpy(items, l->items, (size_t)l->count * sizeof *items);
-    l->items = items;
+  p->scratch = xgrow(p->scratch, &p->capscratch, p->nscratch + 1, sizeof *p->scratch);
+  p->scratch[p->nscratch++] = n;
+}
+
+static void end_list(Parser *p, int mark, AstList *out) {
+  int n = p->nscratch - mark;
+  if (n > 0) {
+    AstNode **items = arena_alloc(p->arena, (size_t)n * sizeof *items);
+    memcpy(items, p->scratch + mark, (size_t)n * sizeof *items);
+    out->items = items;
+    out->count = n;
   }
-  l->items[l->count++] = n;
+  p->nscratch = mark;
 }
 
 static SrcRange span_from(Parser *p, SrcRange start) {
@@ -165,16 +177,19 @@ static AstNode *parse_binding(Parser *p) {
 
 /* bindings := binding { ',' binding } */
 static void parse_bindings(Parser *p, AstList *out) {
+  int mark = begin_list(p);
   do {
     if (check(p, TK_RPAREN)) break;   /* trailing comma */
-    push(p, out, parse_binding(p));
+    push(p, parse_binding(p));
   } while (!p->panic && !p->stop && accept(p, TK_COMMA));
+  end_list(p, mark, out);
 }
 
 /* params := [ param { ',' param } [','] ];  param := IDENT [ '=' expr ] */
 static void parse_params(Parser *p, AstList *out) {
   Token open = p->cur;
   if (!expect(p, TK_LPAREN, "to start the parameter list")) return;
+  int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
     if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a parameter name)"); return; }
     AstNode *prm = node(p, AST_PARAM, p->cur.range);
@@ -182,14 +197,16 @@ static void parse_params(Parser *p, AstList *out) {
     next_token(p);
     if (accept(p, TK_ASSIGN)) prm->a = parse_expr(p);
     prm->range = span_from(p, prm->range);
-    push(p, out, prm);
+    push(p, prm);
     if (!accept(p, TK_COMMA)) break;
   }
+  end_list(p, mark, out);
   expect_close(p, TK_RPAREN, &open, "parameter list");
 }
 
 /* args := [ arg { ',' arg } [','] ];  arg := [ IDENT '=' ] expr */
 static void parse_args(Parser *p, AstList *out, const Token *open) {
+  int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
     AstNode *arg = node(p, AST_ARG, p->cur.range);
     if (check(p, TK_IDENT) && peek(p)->kind == TK_ASSIGN) {
@@ -199,9 +216,10 @@ static void parse_args(Parser *p, AstList *out, const Token *open) {
     }
     arg->a = parse_expr(p);
     arg->range = span_from(p, arg->range);
-    push(p, out, arg);
+    push(p, arg);
     if (!accept(p, TK_COMMA)) break;
   }
+  end_list(p, mark, out);
   expect_close(p, TK_RPAREN, open, "argument list");
 }
 
@@ -223,11 +241,13 @@ static AstNode *parse_list(Parser *p) {
     r->range = span_from(p, open.range);
     return r;
   }
-  push(p, &l->list, first);
+  int mark = begin_list(p);
+  push(p, first);
   while (accept(p, TK_COMMA) && !p->panic && !p->stop) {
     if (check(p, TK_RBRACKET)) break;
-    push(p, &l->list, parse_list_elem(p));
+    push(p, parse_list_elem(p));
   }
+  end_list(p, mark, &l->list);
   expect_close(p, TK_RBRACKET, &open, "list");
   l->range = span_from(p, open.range);
   return l;
@@ -283,7 +303,9 @@ static AstNode *parse_primary(Parser *p) {
     case TK_COLOR:
       next_token(p);
       n = node(p, AST_COLOR, t.range);
-      memcpy(n->color, t.color, sizeof n->color);
+      float *rgba = arena_alloc(p->arena, sizeof t.color);
+      memcpy(rgba, t.color, sizeof t.color);
+      n->color = rgba;
       return n;
     case TK_TRUE: case TK_FALSE:
       next_token(p); n = node(p, AST_BOOL, t.range); n->number = t.kind == TK_TRUE; return n;
@@ -375,11 +397,21 @@ static AstNode *parse_unary(Parser *p) {
   if (!enter(p, start)) return bad_expr(p);
   AstNode *n;
   if (check(p, TK_MINUS) || check(p, TK_PLUS) || check(p, TK_NOT)) {
-    n = node(p, AST_UNARY, start);
-    n->op = p->cur.kind;
+    TokenKind op = p->cur.kind;
     next_token(p);
-    n->a = parse_unary(p);
-    n->range = span_from(p, start);
+    AstNode *operand = parse_unary(p);
+    if (op == TK_MINUS && operand->kind == AST_NUMBER) {
+      /* -NUMBER is folded into one literal: long point lists are full of
+      ** them. (-2^2 is not: its operand is the power, so it is -(2^2).) */
+      operand->number = -operand->number;
+      operand->range = span_from(p, start);
+      n = operand;
+    } else {
+      n = node(p, AST_UNARY, start);
+      n->op = (unsigned char)op;
+      n->a = operand;
+      n->range = span_from(p, start);
+    }
   } else n = parse_power(p);
   leave(p);
   return n;
@@ -461,11 +493,13 @@ static void synchronize(Parser *p) {
 
 /* items := { item }   — up to a closing `}` (not consumed) or end of file */
 static void parse_items(Parser *p, AstList *out) {
+  int mark = begin_list(p);
   while (!check(p, TK_RBRACE) && !check(p, TK_EOF) && !p->stop) {
     AstNode *it = parse_item(p);
-    push(p, out, it);
+    push(p, it);
     if (p->panic) synchronize(p);
   }
+  end_list(p, mark, out);
 }
 
 /* braced := '{' items '}' */
@@ -484,7 +518,9 @@ static void parse_braced(Parser *p, AstList *out, const char *what) {
 static void parse_body(Parser *p, AstList *out) {
   if (check(p, TK_LBRACE)) { parse_braced(p, out, ""); return; }
   if (!enter(p, p->cur.range)) return;
-  push(p, out, parse_item(p));
+  int mark = begin_list(p);
+  push(p, parse_item(p));
+  end_list(p, mark, out);
   leave(p);
 }
 
@@ -598,12 +634,14 @@ static AstNode *parse_block(Parser *p) {
   AstNode *n = node(p, AST_BLOCK, start);
   n->name = p->cur.string;
   next_token(p);
+  int mark = begin_list(p);
   while (check(p, TK_IDENT)) {
     AstNode *w = node(p, AST_IDENT, p->cur.range);
     w->name = p->cur.string;
-    push(p, &n->list2, w);
+    push(p, w);
     next_token(p);
   }
+  end_list(p, mark, &n->list2);
   parse_braced(p, &n->list, "to open the block");
   n->range = span_from(p, start);
   return n;
@@ -633,8 +671,10 @@ static AstNode *parse_property(Parser *p) {
     return n;
   }
   if (!check(p, TK_SEMI)) {
-    do push(p, &n->list, parse_expr(p));
+    int mark = begin_list(p);
+    do push(p, parse_expr(p));
     while (!p->panic && !p->stop && accept(p, TK_COMMA));
+    end_list(p, mark, &n->list);
   }
   end_statement(p, "after a property");
   n->range = span_from(p, start);
@@ -701,6 +741,7 @@ AstNode *parse_file(int file, Arena *arena) {
   }
   prog->range.end_line = p.cur.range.line;
   prog->range.end_col = p.cur.range.col;
+  free(p.scratch);
   return prog;
 }
 
@@ -716,5 +757,6 @@ AstNode *parse_expression_file(int file, Arena *arena) {
   AstNode *e = parse_expr(&p);
   if (!p.panic && !p.stop && !check(&p, TK_EOF))
     error_at(&p, p.cur.range, "unexpected %s after the value", found(&p));
+  free(p.scratch);
   return (p.errors || p.stop || diag_error_count() > errors_before) ? NULL : e;
 }
