@@ -43,6 +43,7 @@ static void print_number(double v, FILE *out) {
 }
 
 static void print_string(const char *s, FILE *out) {
+  if (!s) { fputs("(missing)", out); return; }   /* a partial tree after an error */
   fputc('"', out);
   for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
     if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);

@@ -260,6 +260,7 @@ void diag_report(DiagSeverity sev, SrcRange at, const char *fmt, ...) {
     D.warnings++;
     D.suppressed = 0;
   }
+  if (D.format == DIAG_SILENT) return;
   char msg[2048];
   va_list ap;
   va_start(ap, fmt);

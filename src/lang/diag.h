@@ -35,7 +35,7 @@ typedef struct SrcFile {
 } SrcFile;
 
 typedef enum { DIAG_ERROR, DIAG_WARNING, DIAG_NOTE } DiagSeverity;
-typedef enum { DIAG_TEXT, DIAG_JSON } DiagFormat;
+typedef enum { DIAG_TEXT, DIAG_JSON, DIAG_SILENT } DiagFormat;   /* SILENT: count only (fuzzing) */
 
 /* Errors past this many are not printed; "too many errors" is said once. */
 #define DIAG_MAX_ERRORS 20
