@@ -62,11 +62,11 @@ $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS) -c -o $@ $<
 
-$(BUILD)/unit/%: tests/unit/%.c tests/unit/unit.h $(CORE_OBJ)
+$(BUILD)/unit/%: tests/unit/%.c tests/unit/unit.h $(CORE_OBJ) | $(OIIO_LIB) $(BUILD)/stdlib
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(CORE_OBJ) $(LDLIBS)
 
-$(BUILD)/imgcmp: tests/tools/imgcmp.c $(CORE_OBJ)
+$(BUILD)/imgcmp: tests/tools/imgcmp.c $(CORE_OBJ) | $(OIIO_LIB)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(CORE_OBJ) $(LDLIBS)
 
 # Install the Debian packages the build, the tests and the peers need.
@@ -121,6 +121,13 @@ gallery: all
 	@for f in examples/*.npr; do \
 	  echo "render $$f"; $(BUILD)/sumi render $$f -o docs/gallery/$$(basename $$f .npr).png || exit 1; \
 	done
+
+PREFIX ?= /usr/local
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib/sumi $(DESTDIR)$(PREFIX)/share/sumi/stdlib
+	install -m 755 $(BUILD)/sumi $(DESTDIR)$(PREFIX)/bin/sumi
+	install -m 644 $(OIIO_LIB) $(DESTDIR)$(PREFIX)/lib/sumi/
+	cp -R stdlib/. $(DESTDIR)$(PREFIX)/share/sumi/stdlib/
 
 clean:
 	rm -rf build

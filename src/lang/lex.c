@@ -250,26 +250,31 @@ static void lex_color(Lexer *lx, Token *t) {
   }
 }
 
-static const struct { const char *word; TokenKind kind; } keywords[] = {
-  {"include", TK_INCLUDE}, {"use", TK_USE}, {"as", TK_AS}, {"let", TK_LET},
-  {"fn", TK_FN}, {"module", TK_MODULE}, {"for", TK_FOR}, {"if", TK_IF},
-  {"else", TK_ELSE}, {"each", TK_EACH}, {"true", TK_TRUE}, {"false", TK_FALSE},
-  {"undef", TK_UNDEF},
+static const struct { const char *word; int len; TokenKind kind; } keywords[] = {
+  {"include", 7, TK_INCLUDE}, {"use", 3, TK_USE}, {"as", 2, TK_AS}, {"let", 3, TK_LET},
+  {"fn", 2, TK_FN}, {"module", 6, TK_MODULE}, {"for", 3, TK_FOR}, {"if", 2, TK_IF},
+  {"else", 4, TK_ELSE}, {"each", 4, TK_EACH}, {"true", 4, TK_TRUE}, {"false", 5, TK_FALSE},
+  {"undef", 5, TK_UNDEF},
 };
 
 static void lex_ident(Lexer *lx, Token *t) {
   const char *start = lx->p;
-  while (is_ident_char(peekc(lx))) advance(lx);
-  size_t len = (size_t)(lx->p - start);
+  /* identifiers are ASCII: step bytes directly */
+  while (lx->p < lx->end && is_ident_char((unsigned char)*lx->p)) lx->p++;
+  int len = (int)(lx->p - start);
+  lx->col += len;
   t->range = from(lx, t->range.line, t->range.col);
   t->kind = TK_IDENT;
-  for (size_t i = 0; i < sizeof keywords / sizeof keywords[0]; i++) {
-    if (strlen(keywords[i].word) == len && memcmp(keywords[i].word, start, len) == 0) {
-      t->kind = keywords[i].kind;
-      return;
+  if (len <= 7) {
+    for (size_t i = 0; i < sizeof keywords / sizeof keywords[0]; i++) {
+      if (keywords[i].len == len && keywords[i].word[0] == start[0] &&
+          memcmp(keywords[i].word, start, (size_t)len) == 0) {
+        t->kind = keywords[i].kind;
+        return;
+      }
     }
   }
-  t->string = arena_strndup(lx->arena, start, len);
+  t->string = arena_strndup(lx->arena, start, (size_t)len);
 }
 
 /* Report the character at p as unexpected and step over it. */

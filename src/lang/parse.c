@@ -417,45 +417,51 @@ static AstNode *parse_unary(Parser *p) {
   return n;
 }
 
-/* Binary levels, loosest first; each is left-associative:
-** or := and { '||' and };  and := equality { '&&' equality }
-** equality := comparison { ('==' | '!=') comparison }
-** comparison := additive { ('<' | '<=' | '>' | '>=') additive }
-** additive := multiplicative { ('+' | '-') multiplicative }
-** multiplicative := unary { ('*' | '/' | '%') unary } */
-static const TokenKind binary_levels[][5] = {
-  {TK_OR}, {TK_AND}, {TK_EQ, TK_NE}, {TK_LT, TK_LE, TK_GT, TK_GE},
-  {TK_PLUS, TK_MINUS}, {TK_STAR, TK_SLASH, TK_PERCENT},
-};
-#define BINARY_LEVELS ((int)(sizeof binary_levels / sizeof binary_levels[0]))
-
-static int at_level(Parser *p, int level) {
-  for (int i = 0; i < 5 && binary_levels[level][i]; i++)
-    if (p->cur.kind == binary_levels[level][i]) return 1;
-  return 0;
+/* The binary levels, loosest first; each is left-associative:
+**   or := and { '||' and }
+**   and := equality { '&&' equality }
+**   equality := comparison { ('==' | '!=') comparison }
+**   comparison := additive { ('<' | '<=' | '>' | '>=') additive }
+**   additive := multiplicative { ('+' | '-') multiplicative }
+**   multiplicative := unary { ('*' | '/' | '%') unary }
+** parse_binary implements them all by precedence climbing: binary_prec
+** gives each operator its level (1 = or … 6 = multiplicative). */
+static int binary_prec(TokenKind k) {
+  switch (k) {
+    case TK_OR: return 1;
+    case TK_AND: return 2;
+    case TK_EQ: case TK_NE: return 3;
+    case TK_LT: case TK_LE: case TK_GT: case TK_GE: return 4;
+    case TK_PLUS: case TK_MINUS: return 5;
+    case TK_STAR: case TK_SLASH: case TK_PERCENT: return 6;
+    default: return 0;
+  }
 }
 
-static AstNode *parse_binary(Parser *p, int level) {
-  if (level == BINARY_LEVELS) return parse_unary(p);
+/* Parse operators of level min_prec and tighter. */
+static AstNode *parse_binary(Parser *p, int min_prec) {
   SrcRange start = p->cur.range;
-  AstNode *left = parse_binary(p, level + 1);
-  while (at_level(p, level) && !p->panic && !p->stop) {
+  AstNode *left = parse_unary(p);
+  for (;;) {
+    int prec = binary_prec(p->cur.kind);
+    if (prec < min_prec || prec == 0 || p->panic || p->stop) return left;
     AstNode *n = node(p, AST_BINARY, start);
-    n->op = p->cur.kind;
+    n->op = (unsigned char)p->cur.kind;
     next_token(p);
     n->a = left;
-    n->b = parse_binary(p, level + 1);
+    if (!enter(p, start)) return left;
+    n->b = parse_binary(p, prec + 1);
+    leave(p);
     n->range = span_from(p, start);
     left = n;
   }
-  return left;
 }
 
 /* expr := or [ '?' expr ':' expr ] */
 static AstNode *parse_expr(Parser *p) {
   SrcRange start = p->cur.range;
   if (!enter(p, start)) return bad_expr(p);
-  AstNode *cond = parse_binary(p, 0);
+  AstNode *cond = parse_binary(p, 1);
   if (check(p, TK_QUESTION) && !p->panic) {
     AstNode *n = node(p, AST_TERNARY, start);
     next_token(p);
