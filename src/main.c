@@ -10,12 +10,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/mem.h"
+#include "geom/origami.h"
+#include "geom/refine.h"
 #include "lang/ast.h"
 #include "lang/diag.h"
+#include "lang/eval.h"
 #include "lang/parse.h"
+#include "render/render.h"
+#include "render/stats.h"
 
 #define SUMI_VERSION "0.1.0"
 
@@ -171,15 +178,155 @@ static int cmd_parse(const Options *o) {
   return status;
 }
 
+/* The stdlib folder beside the binary (build/stdlib), else the installed
+** one (PREFIX/share/sumi/stdlib for PREFIX/bin/sumi); NULL if neither. */
+static const char *find_stdlib(void) {
+  static char dir[4200];   /* room for exe and the suffixes */
+  char exe[4096];
+  ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return NULL;
+  exe[n] = 0;
+  char *slash = strrchr(exe, '/');
+  if (!slash) return NULL;
+  *slash = 0;
+  struct stat st;
+  snprintf(dir, sizeof dir, "%s/stdlib", exe);
+  if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return dir;
+  snprintf(dir, sizeof dir, "%s/../share/sumi/stdlib", exe);
+  if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return dir;
+  return NULL;
+}
+
+/* Evaluation options from the command line (-D, -I, limits). */
+static void eval_options_from(const Options *o, EvalOptions *eo) {
+  eval_options_init(eo);
+  eo->defines = o->defines;
+  eo->ndefines = o->ndefines;
+  eo->include_dirs = o->include_dirs;
+  eo->ninclude_dirs = o->ninclude_dirs;
+  eo->stdlib_dir = find_stdlib();
+  if (o->limits[0]) eo->max_recursion = (int)o->limits[0];
+  if (o->limits[1]) eo->max_iterations = o->limits[1];
+  if (o->limits[2]) eo->max_list = o->limits[2];
+  if (o->limits[3]) eo->max_memory = (long long)o->limits[3] << 20;
+}
+
+/* Parse and evaluate FILE into *scene; the exit status (0 ok, 1 errors). */
+static int evaluate(const Options *o, Arena *arena, Scene *scene) {
+  int file;
+  AstNode *prog = load_and_parse(o, arena, &file);
+  if (!prog || diag_error_count()) return 1;
+  if (prog->list.count == 0)
+    diag_warning(prog->range, "`%s` is empty: there is nothing to render", diag_file(file)->name);
+  EvalOptions eo;
+  eval_options_from(o, &eo);
+  return eval_program(prog, file, arena, &eo, scene) ? 1 : 0;
+}
+
 /* sumi check FILE: parse and evaluate, diagnostics only. */
 static int cmd_check(const Options *o) {
   Arena arena;
   arena_init(&arena);
-  int file;
+  Scene scene;
+  scene_init(&scene);
+  int status = evaluate(o, &arena, &scene);
+  if (status == 0 && origami_check_scene(&scene) > 0) status = 1;   /* faces, orders, flat-foldability */
+  scene_free(&scene);
+  arena_free(&arena);
+  return status;
+}
+
+/* sumi faces FILE: every origami block's faces (id, vertex cycle, centroids,
+** overlapping faces), for writing `above` relations. */
+static int cmd_faces(const Options *o) {
+  Arena arena;
+  arena_init(&arena);
+  Scene scene;
+  scene_init(&scene);
+  int status = evaluate(o, &arena, &scene);
+  if (status == 0) status = origami_list_scene(&scene, stdout);
+  scene_free(&scene);
+  arena_free(&arena);
+  return status;
+}
+
+/* sumi eval FILE --scene: evaluate and print the scene as text. */
+static int cmd_eval(const Options *o) {
+  if (!o->scene) bad_usage("`sumi eval` needs --scene");
+  Arena arena;
+  arena_init(&arena);
+  Scene scene;
+  scene_init(&scene);
+  int status = evaluate(o, &arena, &scene);
+  if (status == 0) scene_print(&scene, stdout);
+  scene_free(&scene);
+  arena_free(&arena);
+  return status;
+}
+
+/* sumi refine FILE --compare: evaluate, frame the camera as a render would,
+** and report how our patches, tessellations and subdivided meshes deviate
+** from OpenSubdiv's limit surfaces (geom/refine.h). */
+static int cmd_refine(const Options *o) {
+  if (!o->compare) bad_usage("`sumi refine` needs --compare");
+  Arena arena;
+  arena_init(&arena);
+  Scene scene;
+  scene_init(&scene);
+  int status = evaluate(o, &arena, &scene);
+  if (status == 0) {
+    RenderOptions ro;
+    memset(&ro, 0, sizeof ro);
+    render_resolve_size(&scene, o->width, o->height, &ro.width, &ro.height);
+    ro.threads = 1;
+    RenderFrame f;
+    status = render_prepare(&scene, &ro, &f) ? refine_compare(&scene, &f.camera, stdout) : 1;
+    render_frame_free(&f);
+  }
+  scene_free(&scene);
+  arena_free(&arena);
+  return status;
+}
+
+/* sumi render FILE -o OUT: evaluate, render, write the image (and the
+** --aov passes beside it). */
+static int cmd_render(const Options *o) {
+  Arena arena;
+  arena_init(&arena);
+  int file, status = 1;
+  double t0 = now_seconds();
   AstNode *prog = load_and_parse(o, &arena, &file);
-  int status = !prog || diag_error_count() ? 1 : 0;
-  if (prog && !status && prog->list.count == 0)
-    diag_warning(prog->range, "`%s` is empty: there is nothing to render", diag_file(file)->name);
+  Scene scene;
+  scene_init(&scene);
+  EvalOptions eo;
+  eval_options_from(o, &eo);
+  double t1 = now_seconds();
+  if (prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0) {
+    stats_record("parse", t1 - t0);
+    stats_record("eval", now_seconds() - t1);
+    RenderOptions ro;
+    memset(&ro, 0, sizeof ro);
+    render_resolve_size(&scene, o->width, o->height, &ro.width, &ro.height);
+    ro.threads = o->threads;
+    ro.stats = o->stats;
+    Image *img = NULL;
+    GBuffer *gb = NULL;
+    if (render_scene(&scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
+      char err[512];
+      double t2 = now_seconds();
+      status = image_write(o->output, img, err, sizeof err) ? 0 : 1;
+      if (status) fprintf(stderr, "sumi: %s\n", err);
+      stats_record("write", now_seconds() - t2);
+      if (!status && gb && !render_write_aovs(gb, o->output, o->aov, err, sizeof err)) {
+        fprintf(stderr, "sumi: %s\n", err);
+        status = 1;
+      }
+    }
+    image_destroy(img);
+    gbuf_destroy(gb);
+  }
+  if (o->stats) stats_print(stderr);
+  scene_free(&scene);
   arena_free(&arena);
   return status;
 }
@@ -193,6 +340,10 @@ typedef struct Command {
 static const Command commands[] = {
   {"parse", cmd_parse, 0},
   {"check", cmd_check, 0},
+  {"faces", cmd_faces, 0},
+  {"eval", cmd_eval, 0},
+  {"refine", cmd_refine, 0},
+  {"render", cmd_render, 1},
 };
 
 int main(int argc, char **argv) {

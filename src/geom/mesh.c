@@ -29,6 +29,7 @@ void mesh_destroy(Mesh *m) {
   free(m->uv);
   free(m->tri);
   free(m->tri_face);
+  free(m->corner_nrm);
   free(m->edges);
   free(m->tri_edges);
   free(m);
@@ -116,85 +117,131 @@ void mesh_compute_normals(Mesh *m) {
   }
 }
 
+/* Whether any corner normal differs from its vertex normal by more than
+** about 0.1 degree. */
+static int corners_differ(const Mesh *m) {
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++)
+      if (v3_dot(m->corner_nrm[t][k], m->nrm[m->tri[t][k]]) < 1 - 1e-6) return 1;
+  return 0;
+}
+
+/* Drops corner_nrm when it says nothing the vertex normals do not. */
+static void corners_prune(Mesh *m) {
+  if (m->corner_nrm && !corners_differ(m)) {
+    free(m->corner_nrm);
+    m->corner_nrm = NULL;
+  }
+}
+
+void mesh_smooth_corners(Mesh *m, double max_angle) {
+  free(m->corner_nrm);
+  m->corner_nrm = NULL;
+  if (m->ntris == 0) return;
+  double cos_max = cos(max_angle * M_PI / 180);
+  /* triangles around each vertex, as offsets into one array */
+  int *start = xcalloc((size_t)m->nverts + 1, sizeof *start), *around = xmalloc((size_t)m->ntris * 3 * sizeof *around);
+  Vec3 *fn = xmalloc((size_t)m->ntris * sizeof *fn);   /* area-weighted face normals */
+  for (int t = 0; t < m->ntris; t++) {
+    const int *c = m->tri[t];
+    fn[t] = v3_cross(v3_sub(m->pos[c[1]], m->pos[c[0]]), v3_sub(m->pos[c[2]], m->pos[c[0]]));
+    for (int k = 0; k < 3; k++) start[c[k] + 1]++;
+  }
+  for (int v = 0; v < m->nverts; v++) start[v + 1] += start[v];
+  int *fill = xmalloc((size_t)m->nverts * sizeof *fill);
+  memcpy(fill, start, (size_t)m->nverts * sizeof *fill);
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) around[fill[m->tri[t][k]]++] = t;
+  m->corner_nrm = xmalloc((size_t)m->ntris * sizeof *m->corner_nrm);
+  for (int t = 0; t < m->ntris; t++) {
+    Vec3 own = v3_norm(fn[t]);
+    for (int k = 0; k < 3; k++) {
+      int v = m->tri[t][k];
+      Vec3 sum = {0, 0, 0};
+      for (int i = start[v]; i < start[v + 1]; i++)
+        if (v3_dot(v3_norm(fn[around[i]]), own) >= cos_max) sum = v3_add(sum, fn[around[i]]);
+      Vec3 n = v3_norm(sum);
+      m->corner_nrm[t][k] = v3_len(n) > 0.5 ? n : m->nrm[v];
+    }
+  }
+  free(start);
+  free(around);
+  free(fn);
+  free(fill);
+  corners_prune(m);
+}
+
 /* ---- welding ---------------------------------------------------------- */
 
-/* Integer cell of coordinate x for cell size 1 / inv, clamped so the cast
-** is defined; inv = 0 asks for exact matching: the cell is x's bit pattern
-** (with -0 as +0). */
-static int64_t cell_of(double x, double inv) {
-  if (inv == 0) {
+/* Welding hashes positions into cubic cells of side 2 eps: every point
+** within eps of p then lies in one of 8 cells, p's own and its neighbours
+** toward the nearer face on each axis. eps = 0 matches exact positions
+** (one cell per bit pattern, -0 as +0). */
+typedef struct WeldGrid {
+  size_t mask;
+  int *head;          /* per slot: first representative + 1, 0 = none */
+  int *next;          /* per vertex: next representative in the same slot + 1 */
+  double inv;         /* 1 / cell side; 0 = exact */
+} WeldGrid;
+
+/* Cell of coordinate x, clamped so the cast is defined; *side is the
+** neighbour toward the nearer cell face (-1 or +1). */
+static int64_t cell_of(const WeldGrid *g, double x, int *side) {
+  if (g->inv == 0) {
     double z = x + 0.0;
     int64_t bits;
     memcpy(&bits, &z, sizeof bits);
+    *side = 0;
     return bits;
   }
-  double c = floor(x * inv);
+  double f = x * g->inv, c = floor(f);
+  *side = f - c < 0.5 ? -1 : 1;
   if (!(c > -4e18)) c = -4e18;   /* also NaN */
   if (c > 4e18) c = 4e18;
   return (int64_t)c;
 }
 
-static uint64_t cell_hash(int64_t x, int64_t y, int64_t z) {
-  return hash_u64((uint64_t)x * 0x9E3779B97F4A7C15ULL ^ hash_u64((uint64_t)y + 0x632BE59BD9B4E019ULL) ^
-                  hash_u64((uint64_t)z * 3 + 1));
+static size_t cell_slot(const WeldGrid *g, int64_t x, int64_t y, int64_t z) {
+  uint64_t h = (uint64_t)x * 0x9E3779B97F4A7C15ULL ^ (uint64_t)y * 0xC2B2AE3D27D4EB4FULL ^
+               (uint64_t)z * 0x165667B19E3779F9ULL;
+  return (size_t)hash_u64(h) & g->mask;
 }
 
-typedef struct WeldGrid {
-  size_t mask;
-  int *head;          /* per slot: first representative + 1, 0 = none */
-  int *next;          /* per vertex: next representative in the same slot + 1 */
-  double inv;
-} WeldGrid;
-
-/* The earlier representative within eps of p, or -1. Candidates come from
-** the 27 cells around p's; different cells may share a slot, which only
-** costs a distance test. */
+/* The earlier representative within eps of p, or -1. Different cells may
+** share a slot, which only costs a distance test. */
 static int weld_lookup(const WeldGrid *g, const Vec3 *pos, Vec3 p, double eps2) {
-  int64_t cx = cell_of(p.x, g->inv), cy = cell_of(p.y, g->inv), cz = cell_of(p.z, g->inv);
-  int reach = g->inv == 0 ? 0 : 1;
-  for (int dz = -reach; dz <= reach; dz++)
-    for (int dy = -reach; dy <= reach; dy++)
-      for (int dx = -reach; dx <= reach; dx++) {
-        size_t h = (size_t)cell_hash(cx + dx, cy + dy, cz + dz) & g->mask;
-        for (int r = g->head[h]; r; r = g->next[r - 1]) {
-          Vec3 d = v3_sub(pos[r - 1], p);
-          if (v3_dot(d, d) <= eps2) return r - 1;
-        }
-      }
+  int sx, sy, sz;
+  int64_t cx = cell_of(g, p.x, &sx), cy = cell_of(g, p.y, &sy), cz = cell_of(g, p.z, &sz);
+  size_t seen[8];
+  int nseen = 0;
+  for (int k = 0; k < 8; k++) {
+    if (((k & 1) && !sx) || ((k & 2) && !sy) || ((k & 4) && !sz)) continue;
+    size_t h = cell_slot(g, cx + (k & 1 ? sx : 0), cy + (k & 2 ? sy : 0), cz + (k & 4 ? sz : 0));
+    int dup = 0;
+    for (int i = 0; i < nseen; i++) dup |= seen[i] == h;
+    if (dup) continue;
+    seen[nseen++] = h;
+    for (int r = g->head[h]; r; r = g->next[r - 1]) {
+      Vec3 d = v3_sub(pos[r - 1], p);
+      if (v3_dot(d, d) <= eps2) return r - 1;
+    }
+  }
   return -1;
 }
 
 static void weld_insert(WeldGrid *g, Vec3 p, int v) {
-  size_t h = (size_t)cell_hash(cell_of(p.x, g->inv), cell_of(p.y, g->inv), cell_of(p.z, g->inv)) & g->mask;
+  int s;
+  size_t h = cell_slot(g, cell_of(g, p.x, &s), cell_of(g, p.y, &s), cell_of(g, p.z, &s));
   g->next[v] = g->head[h];
   g->head[h] = v + 1;
 }
 
-/* Vertex v merges into the first earlier vertex within eps (in index
-** order); kept vertices keep their order, position, normal and uv.
-** Triangles that lose a corner are dropped; topology, if built, is rebuilt. */
-void mesh_weld(Mesh *m, double eps) {
-  if (m->nverts == 0) return;
-  if (!(eps > 0)) eps = 0;
-  WeldGrid g;
-  size_t size = table_size((size_t)m->nverts);
-  g.mask = size - 1;
-  g.head = xcalloc(size, sizeof *g.head);
-  g.next = xcalloc((size_t)m->nverts, sizeof *g.next);
-  g.inv = eps > 0 ? 1.0 / eps : 0;
-  if (!isfinite(g.inv)) g.inv = 0;   /* eps so small it is exact */
-  int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
-  int nkept = 0;
-  for (int v = 0; v < m->nverts; v++) {
-    int r = weld_lookup(&g, m->pos, m->pos[v], eps * eps);
-    if (r >= 0) { remap[v] = remap[r]; continue; }
-    weld_insert(&g, m->pos[v], v);
-    remap[v] = nkept++;
-  }
-  /* compact: a kept vertex's new index is never above its old one */
+/* Drops the vertices remap sends elsewhere (kept ones keep their order and
+** attributes) and the triangles that lose a corner. */
+static void weld_compact(Mesh *m, const int *remap, int nkept) {
   int seen = 0;
   for (int v = 0; v < m->nverts; v++) {
-    if (remap[v] != seen) continue;
+    if (remap[v] != seen) continue;   /* kept vertices number 0, 1, 2, ... in order */
     m->pos[seen] = m->pos[v];
     m->nrm[seen] = m->nrm[v];
     if (m->uv) m->uv[seen] = m->uv[v];
@@ -207,11 +254,38 @@ void mesh_weld(Mesh *m, double eps) {
     if (a == b || b == c || c == a) continue;
     m->tri[nt][0] = a; m->tri[nt][1] = b; m->tri[nt][2] = c;
     m->tri_face[nt] = m->tri_face[t];
+    if (m->corner_nrm) memmove(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
     nt++;
   }
   m->ntris = nt;
+}
+
+void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark) {
+  if (m->nverts == 0) return;
+  if (!(eps > 0)) eps = 0;
+  WeldGrid g;
+  size_t size = table_size((size_t)m->nverts);
+  g.mask = size - 1;
+  g.head = xcalloc(size, sizeof *g.head);
+  g.next = xcalloc((size_t)m->nverts, sizeof *g.next);
+  g.inv = eps > 0 ? 0.5 / eps : 0;
+  if (!isfinite(g.inv)) g.inv = 0;   /* eps so small it is exact */
+  int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
+  int nkept = 0;
+  for (int v = 0; v < m->nverts; v++) {
+    if (!mark || mark[v]) {
+      int r = weld_lookup(&g, m->pos, m->pos[v], eps * eps);
+      if (r >= 0) { remap[v] = remap[r]; continue; }
+      weld_insert(&g, m->pos[v], v);
+    }
+    remap[v] = nkept++;
+  }
+  weld_compact(m, remap, nkept);
+  corners_prune(m);
   free(g.head);
   free(g.next);
   free(remap);
   if (m->edges) mesh_build_edges(m);
 }
+
+void mesh_weld(Mesh *m, double eps) { mesh_weld_marked(m, eps, NULL); }

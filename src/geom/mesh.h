@@ -27,19 +27,45 @@ typedef struct Mesh {
   int ntris;
   int (*tri)[3];      /* counter-clockwise seen from the side the normal points to */
   int *tri_face;      /* per triangle: the source face (patch index, polygon index) */
+  /* Per-corner normals where a vertex sits on a crease (a cube's corner, a
+  ** cylinder's rim, where two patches meet at an angle): corner k of
+  ** triangle t shades with corner_nrm[t][k] instead of nrm[tri[t][k]].
+  ** NULL when every corner may use its vertex normal. Unit, never NaN. */
+  Vec3 (*corner_nrm)[3];
   /* topology, filled by mesh_build_edges() */
   int nedges;
   MeshEdge *edges;
   int (*tri_edges)[3];   /* edge index of tri edge (v0v1, v1v2, v2v0) */
 } Mesh;
 
-Mesh *mesh_create(int nverts, int ntris);      /* arrays allocated, uv NULL */
+Mesh *mesh_create(int nverts, int ntris);      /* arrays allocated, uv and corner_nrm NULL */
 void mesh_destroy(Mesh *m);
 /* Build edges and tri_edges from tri (replaces any earlier topology). */
 void mesh_build_edges(Mesh *m);
 /* Area-weighted vertex normals from the triangles (for meshes without any). */
 void mesh_compute_normals(Mesh *m);
-/* Merge vertices closer than eps (positions), remapping triangles. */
+/* The normal corner k of triangle t shades with: corner_nrm when there is
+** one, else the vertex normal. */
+static inline Vec3 mesh_corner_normal(const Mesh *m, int t, int k) {
+  return m->corner_nrm ? m->corner_nrm[t][k] : m->nrm[m->tri[t][k]];
+}
+/* Smoothing groups for a polygon mesh: each corner's normal averages (by
+** area) only the triangles around its vertex that meet the corner's own
+** triangle at less than max_angle degrees, so faces meeting at a sharper
+** angle shade flat. Fills corner_nrm (freed again when no corner differs
+** from its vertex normal); nrm stays the plain area-weighted normal. */
+void mesh_smooth_corners(Mesh *m, double max_angle);
+/* Merge vertices closer than eps (positions), remapping triangles. Each
+** vertex merges into the first earlier one within eps (so the result does
+** not depend on anything but the order); kept vertices keep their order,
+** normal and uv. Triangles left with a repeated corner are dropped, and
+** topology, if it was built, is rebuilt. corner_nrm, if there is one,
+** follows the triangles, and is freed (NULL) when no corner differs from
+** its vertex normal any more. eps = 0 merges equal positions. So: set
+** corner_nrm to each corner's own normal before welding to keep creases. */
 void mesh_weld(Mesh *m, double eps);
+/* The same, but only vertices with mark[v] != 0 take part (the rest are
+** never merged), e.g. the border vertices of tessellated patches. */
+void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark);
 
 #endif

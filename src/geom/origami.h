@@ -15,7 +15,9 @@
 **   - the relation "face i lies over face j (toward +z)": from `above` pairs
 **     or the N x N U/L/- matrix, plus the order every M/V crease implies for
 **     the two faces it joins (a valley puts the neighbour on the side of a
-**     face's paper normal, a mountain on the other side).
+**     face's paper normal, a mountain on the other side), plus the orders
+**     implied through a third face: i over k over j at a place all three
+**     cover puts i over j (a pleat's outer layers; repeated to a fixpoint).
 ** Diagnostics point at the source of the offending face, crease or vertex
 ** (the SrcRange fields of SceneOrigami; the block's own location when a
 ** part has none, as for FOLD imports).
@@ -67,10 +69,13 @@ static inline int origami_is_above(const OrigamiModel *m, int i, int j) {
   return (int)((m->above[(size_t)i * (size_t)m->row_words + ((unsigned)j >> 6)] >> (j & 63)) & 1u);
 }
 
-/* Build the model of one origami block. With check != 0 also run the
-** checks that cost a pass over face pairs or vertices (overlapping faces
-** with no order, orders for faces that do not overlap, Kawasaki and
-** Maekawa at interior vertices). Errors and warnings go to diag_report.
+/* Build the model of one origami block. Always checked: indices, faces
+** tiling the paper, folded positions that keep each face's shape, an
+** antisymmetric relation that agrees with the creases, and (when folding
+** from the paper) Kawasaki and Maekawa at interior vertices. With
+** check != 0 also: overlapping faces with no order, orders for faces that
+** do not overlap (a warning), cycles among three faces covering one place,
+** and Kawasaki and Maekawa on a given folded state. Errors and warnings go to diag_report.
 ** Returns a malloc'd model (free with origami_free), or NULL after at
 ** least one error. */
 OrigamiModel *origami_build(const SceneOrigami *src, int check);
@@ -87,6 +92,15 @@ OrigamiOverlap *origami_overlaps(const OrigamiModel *m, int *count);
 ** and the faces it overlaps (split into those it lies over, under, and
 ** any left unordered). For `sumi faces`. */
 void origami_list_faces(const OrigamiModel *m, FILE *out);
+
+/* Build every origami block of a scene with the checks on (`sumi check`):
+** returns the number of blocks that failed. */
+int origami_check_scene(const Scene *s);
+
+/* `sumi faces`: build every block and list its faces (origami_list_faces),
+** blocks separated by a blank line. Returns 0, or 1 when a block failed
+** to build (its diagnostics are reported). */
+int origami_list_scene(const Scene *s, FILE *out);
 
 /* Reflect faces across their shared edges from face `root`, mapping
 ** positions `from` (one state) to `to` (the other: paper -> folded, or

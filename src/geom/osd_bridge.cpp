@@ -24,6 +24,7 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
 #include <vector>
@@ -45,14 +46,14 @@ void on_osd_warning(const char *message) {
   if (osd_message.empty() && message) osd_message = message;
 }
 
-// Install the callbacks once; clear what an earlier call left.
+// Install the callbacks once (whichever thread comes first); clear what an
+// earlier call on this thread left.
 void begin_call() {
-  static bool installed = false;
-  if (!installed) {
+  static std::once_flag installed;
+  std::call_once(installed, [] {
     Far::SetErrorCallback(on_osd_error);
     Far::SetWarningCallback(on_osd_warning);
-    installed = true;
-  }
+  });
   osd_message.clear();
 }
 
@@ -68,8 +69,12 @@ int fail(char *err, size_t errlen, const char *fmt, ...) {
 
 // Points as Far's primvar templates want them -------------------------------
 
+// (No initialiser: Far clears each point before it adds to it, so large
+// arrays of them need not be zeroed first.)
 struct Point {
   double p[3];
+  Point() {}
+  Point(double x, double y, double z) : p{x, y, z} {}
   void Clear(void * = nullptr) { p[0] = p[1] = p[2] = 0; }
   void AddWithWeight(Point const &src, double w) {
     p[0] += w * src.p[0];
@@ -250,7 +255,7 @@ void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
                   SumiOsdScheme scheme, std::vector<Point> &lim, std::vector<Point> &nrm) {
   size_t n = last.size();
   lim.resize(n);
-  nrm.assign(n, Point{{0, 0, 0}});
+  nrm.assign(n, Point(0, 0, 0));
   if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
     lim = last;
     return;
@@ -279,9 +284,9 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   // Positions level by level (double precision weights).
   Far::PrimvarRefinerReal<double> pr(*r);
   std::vector<Point> src(m->nverts), dst;
-  std::memcpy(src.data(), pos, sizeof(Point) * src.size());
+  for (size_t i = 0; i < src.size(); i++) src[i] = Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
   for (int l = 1; l <= level; l++) {
-    dst.assign(r->GetLevel(l).GetNumVertices(), Point{{0, 0, 0}});
+    dst.resize(r->GetLevel(l).GetNumVertices());
     pr.Interpolate(l, src, dst);
     src.swap(dst);
   }
@@ -289,23 +294,29 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   limit_points(*r, src, m->scheme, lim, nrm);
 
   Far::TopologyLevel const &last = r->GetLevel(level);
-  std::vector<int> start(1, 0), index, base;
+  std::vector<int> start(1, 0), index, base, fedges, everts(2 * (size_t)last.GetNumEdges());
+  index.reserve(4 * (size_t)last.GetNumFaces());
+  fedges.reserve(4 * (size_t)last.GetNumFaces());
   for (int f = 0; f < last.GetNumFaces(); f++) {
-    Far::ConstIndexArray fv = last.GetFaceVertices(f);
+    Far::ConstIndexArray fv = last.GetFaceVertices(f), fe = last.GetFaceEdges(f);
     for (int k = 0; k < fv.size(); k++) index.push_back(fv[k]);
+    for (int k = 0; k < fe.size(); k++) fedges.push_back(fe[k]);
     start.push_back((int)index.size());
     int b = f;  // walk up to the base face
     for (int l = level; l >= 1; l--) b = r->GetLevel(l).GetFaceParentFace(b);
     base.push_back(b);
   }
-  std::vector<float> tag = tagged_edges(*m, *r), sharp, vsharp;
+  std::vector<float> tag = tagged_edges(*m, *r), sharp, sharp_now, vsharp;
   std::vector<int> sharp_verts;
   for (int e = 0; e < last.GetNumEdges(); e++) {
-    if (tag[e] <= 0) continue;
     Far::ConstIndexArray ev = last.GetEdgeVertices(e);
+    everts[2 * e] = ev[0];
+    everts[2 * e + 1] = ev[1];
+    if (tag[e] <= 0) continue;
     sharp_verts.push_back(ev[0]);
     sharp_verts.push_back(ev[1]);
     sharp.push_back(tag[e]);
+    sharp_now.push_back(last.GetEdgeSharpness(e));
   }
   for (int v = 0; v < last.GetNumVertices(); v++) vsharp.push_back(last.GetVertexSharpness(v));
 
@@ -319,6 +330,10 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   res.nverts = (int)src.size();
   res.nfaces = last.GetNumFaces();
   res.nsharp = (int)sharp.size();
+  res.nedges = last.GetNumEdges();
+  res.edge_verts = copy_out(everts);
+  res.edge_tag = copy_out(tag);
+  res.face_edges = copy_out(fedges);
   res.ctrl = copy_out(ctrl);
   res.limit = copy_out(limd);
   res.normal = copy_out(nrmd);
@@ -328,6 +343,7 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   res.face_base = copy_out(base);
   res.sharp_verts = copy_out(sharp_verts);
   res.sharp = copy_out(sharp);
+  res.sharp_now = copy_out(sharp_now);
   *out = res;
   return 1;
 }
@@ -406,8 +422,12 @@ extern "C" void sumi_osd_refined_free(SumiOsdRefined *r) {
   std::free(r->face_start);
   std::free(r->face_index);
   std::free(r->face_base);
+  std::free(r->edge_verts);
+  std::free(r->edge_tag);
+  std::free(r->face_edges);
   std::free(r->sharp_verts);
   std::free(r->sharp);
+  std::free(r->sharp_now);
   std::memset(r, 0, sizeof *r);
 }
 

@@ -67,9 +67,14 @@ typedef struct SumiOsdRefined {
   int *face_start;             /* nfaces + 1 offsets into face_index */
   int *face_index;             /* quads (catmark, bilinear) or triangles (loop) */
   int *face_base;              /* nfaces: the base face each refined face lies in */
-  int nsharp;                  /* edges with sharpness > 0 at this level */
-  int *sharp_verts;            /* 2 * nsharp */
-  float *sharp;                /* nsharp: their sharpness (already decayed by level) */
+  int nedges;                  /* edges of the level */
+  int *edge_verts;             /* 2 * nedges */
+  float *edge_tag;             /* nedges: the base crease each descends from, 0 = none */
+  int *face_edges;             /* like face_index: edge k runs from corner k to k + 1 */
+  int nsharp;                  /* edges with edge_tag > 0 */
+  int *sharp_verts;            /* 2 * nsharp: edges descending from a tagged base crease */
+  float *sharp;                /* nsharp: the base crease's sharpness, as tagged */
+  float *sharp_now;            /* nsharp: the sharpness left at this level (decayed) */
 } SumiOsdRefined;
 
 /* Refine m uniformly to level (>= 1) with base positions pos (3 * nverts of

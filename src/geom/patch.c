@@ -24,27 +24,31 @@ static void bernstein1(double t, double b[4], double d[4]) {
   d[0] = -1.0; d[1] = 1.0; d[2] = 0; d[3] = 0;
 }
 
-/* sum_j sum_i wu[i] wv[j] cp(i, j), with n control points a side. */
-static Vec3 tensor_sum(const ScenePatch *p, int n, const double wu[4], const double wv[4]) {
-  Vec3 r = {0, 0, 0};
-  for (int j = 0; j < n; j++) {
-    Vec3 row = {0, 0, 0};
-    for (int i = 0; i < n; i++) row = v3_add(row, v3_mul(p->cp[n * j + i], wu[i]));
-    r = v3_add(r, v3_mul(row, wv[j]));
-  }
-  return r;
-}
-
-/* P, dP/du, dP/dv and d2P/dudv at (u, v); any output may be NULL. */
+/* P, dP/du, dP/dv and d2P/dudv at (u, v); any output but P may be NULL.
+** Each row is summed once with the point weights and once with the
+** derivative weights; the rows then combine both ways in v. */
 static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
-  double bu[4], du_w[4], bv[4], dv_w[4];
+  double bu[4], wu[4], bv[4], wv[4];
   int n = p->bilinear ? 2 : 4;
-  if (p->bilinear) { bernstein1(u, bu, du_w); bernstein1(v, bv, dv_w); }
-  else { bernstein3(u, bu, du_w); bernstein3(v, bv, dv_w); }
-  if (du) *du = tensor_sum(p, n, du_w, bv);
-  if (dv) *dv = tensor_sum(p, n, bu, dv_w);
-  if (duv) *duv = tensor_sum(p, n, du_w, dv_w);
-  return tensor_sum(p, n, bu, bv);
+  if (p->bilinear) { bernstein1(u, bu, wu); bernstein1(v, bv, wv); }
+  else { bernstein3(u, bu, wu); bernstein3(v, bv, wv); }
+  Vec3 x = {0, 0, 0}, xu = {0, 0, 0}, xv = {0, 0, 0}, xuv = {0, 0, 0};
+  for (int j = 0; j < n; j++) {
+    const Vec3 *c = &p->cp[n * j];
+    Vec3 r = {0, 0, 0}, ru = {0, 0, 0};   /* row j at u, and its u-derivative */
+    for (int i = 0; i < n; i++) {
+      r.x += bu[i] * c[i].x; r.y += bu[i] * c[i].y; r.z += bu[i] * c[i].z;
+      ru.x += wu[i] * c[i].x; ru.y += wu[i] * c[i].y; ru.z += wu[i] * c[i].z;
+    }
+    x = v3_add(x, v3_mul(r, bv[j]));
+    xu = v3_add(xu, v3_mul(ru, bv[j]));
+    xv = v3_add(xv, v3_mul(r, wv[j]));
+    xuv = v3_add(xuv, v3_mul(ru, wv[j]));
+  }
+  if (du) *du = xu;
+  if (dv) *dv = xv;
+  if (duv) *duv = xuv;
+  return x;
 }
 
 Vec3 patch_eval(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv) {
@@ -72,9 +76,8 @@ static Vec3 limit_normal(const ScenePatch *p, double u, double v, Vec3 du, Vec3 
   return n;
 }
 
-Vec3 patch_normal(const ScenePatch *p, double u, double v) {
-  Vec3 du, dv;
-  eval_full(p, u, v, &du, &dv, NULL);
+/* The normal from tangents du, dv already evaluated at (u, v). */
+static Vec3 normal_from(const ScenePatch *p, double u, double v, Vec3 du, Vec3 dv) {
   Vec3 n = v3_cross(du, dv);
   if (!degenerate_cross(n, du, dv)) return v3_norm(n);
   n = limit_normal(p, u, v, du, dv);
@@ -88,6 +91,19 @@ Vec3 patch_normal(const ScenePatch *p, double u, double v) {
     if (!degenerate_cross(n, du, dv)) return v3_norm(n);
   }
   return v3(0, 0, 1);
+}
+
+Vec3 patch_normal(const ScenePatch *p, double u, double v) {
+  Vec3 du, dv;
+  eval_full(p, u, v, &du, &dv, NULL);
+  return normal_from(p, u, v, du, dv);
+}
+
+Vec3 patch_eval_normal(const ScenePatch *p, double u, double v, Vec3 *normal) {
+  Vec3 du, dv;
+  Vec3 x = eval_full(p, u, v, &du, &dv, NULL);
+  *normal = normal_from(p, u, v, du, dv);
+  return x;
 }
 
 void patch_bilinear(ScenePatch *out, Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11) {

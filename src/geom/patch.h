@@ -27,6 +27,10 @@ Vec3 patch_eval(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv);
 ** gives (0, 0, 1). Never NaN. */
 Vec3 patch_normal(const ScenePatch *p, double u, double v);
 
+/* The point at (u, v), and patch_normal(p, u, v) into *normal, from one
+** evaluation (what the tessellator uses). */
+Vec3 patch_eval_normal(const ScenePatch *p, double u, double v, Vec3 *normal);
+
 /* The 16 control points of the bicubic patch that represents the bilinear
 ** patch p exactly (degree elevation), into *out (bilinear = 0). */
 void patch_elevate_bilinear(const ScenePatch *p, ScenePatch *out);

@@ -21,8 +21,14 @@
 /* Segments for a border that has a control point at or behind the eye
 ** (its projection is meaningless); the rasterizer clips these anyway. */
 #define TESS_BEHIND_SEGMENTS 16
-/* The smallest tolerance tess_adaptive honours, pixels (or units). */
-#define TESS_MIN_TOLERANCE 0.01
+/* The tolerance used when the one given is not positive: pixels, or a
+** fraction of the control net's size in object units. (Small ones are
+** safe: TESS_MAX_SEGMENTS bounds the work.) */
+#define TESS_DEFAULT_PX 0.5
+#define TESS_DEFAULT_REL 1e-3
+/* Polygon faces meeting at more than this (degrees) shade flat on either
+** side of their edge (a cube's faces); below it they shade smooth. */
+#define TESS_SMOOTH_ANGLE 45.0
 /* Vertices closer than this times the control net's size are welded. */
 #define TESS_WELD_REL 1e-9
 
@@ -32,23 +38,26 @@ typedef struct TessBuf {
   int nv, capv;
   Vec3 *pos, *nrm;
   Vec2 *uv;
+  unsigned char *border;   /* 1 on a patch border: only these are welded */
   int nt, capt;
   int (*tri)[3];
   int *face;
 } TessBuf;
 
-static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v) {
+static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v, int border) {
   if (b->nv == b->capv) {
     int cap = b->capv;
     b->pos = xgrow(b->pos, &cap, b->nv + 1, sizeof *b->pos);
-    cap = b->capv;
-    b->nrm = xgrow(b->nrm, &cap, b->nv + 1, sizeof *b->nrm);
-    b->uv = xgrow(b->uv, &b->capv, b->nv + 1, sizeof *b->uv);
+    b->nrm = xrealloc(b->nrm, (size_t)cap * sizeof *b->nrm);
+    b->uv = xrealloc(b->uv, (size_t)cap * sizeof *b->uv);
+    b->border = xrealloc(b->border, (size_t)cap);
+    b->capv = cap;
   }
   b->pos[b->nv] = p;
   b->nrm[b->nv] = n;
   b->uv[b->nv].x = u;
   b->uv[b->nv].y = v;
+  b->border[b->nv] = (unsigned char)border;
   return b->nv++;
 }
 
@@ -56,7 +65,8 @@ static void buf_tri(TessBuf *b, int a, int c1, int c2, int face) {
   if (b->nt == b->capt) {
     int cap = b->capt;
     b->tri = xgrow(b->tri, &cap, b->nt + 1, sizeof *b->tri);
-    b->face = xgrow(b->face, &b->capt, b->nt + 1, sizeof *b->face);
+    b->face = xrealloc(b->face, (size_t)cap * sizeof *b->face);
+    b->capt = cap;
   }
   b->tri[b->nt][0] = a;
   b->tri[b->nt][1] = c1;
@@ -76,6 +86,7 @@ static Mesh *buf_to_mesh(TessBuf *b, int with_uv) {
   m->ntris = b->nt;
   m->tri = b->tri ? b->tri : xmalloc(sizeof *m->tri);
   m->tri_face = b->face ? b->face : xmalloc(sizeof *m->tri_face);
+  free(b->border);
   memset(b, 0, sizeof *b);
   return m;
 }
@@ -146,21 +157,41 @@ static int project(const Measure *ms, Vec3 p, Vec3 *out) {
   return 1;
 }
 
+/* Whether points c[0..n-1] all lie beyond one side of the view (left,
+** right, bottom, top, or behind the eye): then so does every surface they
+** control (convex hull), and one segment is enough. */
+static int outside_view(const Measure *ms, const Vec3 *c, int n) {
+  if (!ms->clip) return 0;
+  const double (*m)[4] = ms->clip->m;
+  int out[5] = {1, 1, 1, 1, 1};
+  for (int i = 0; i < n; i++) {
+    Vec3 p = c[i];
+    double x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
+    double y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
+    double w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
+    out[0] &= x < -w; out[1] &= x > w; out[2] &= y < -w; out[3] &= y > w; out[4] &= w <= 0;
+  }
+  return out[0] || out[1] || out[2] || out[3] || out[4];
+}
+
 static int clamp_segments(double n) {
   if (!(n < TESS_MAX_SEGMENTS)) return TESS_MAX_SEGMENTS;   /* also NaN */
   return n < 1 ? 1 : (int)n;
 }
 
-/* Segments so the polyline of a cubic with projected control points q
-** stays within tol of it: the chord error of a curve is at most
-** h^2 max|C''| / 8 and |C''| <= 6 max|second difference|. */
+/* Segments for a border with projected control points q. Its chord
+** error alone would need n^2 = 6 D / (8 tol) (the error is at most
+** h^2 max|C''| / 8, |C''| <= 6 D, D the largest second difference); the
+** strip triangles along it also span the inside, so it takes the inner
+** grid's rule without the twist term, n^2 = 6 D / (2 tol): where a patch
+** has no twist its borders then match its grid and it is cut as one. */
 static int curve_segments(const Measure *ms, const Vec3 q[4]) {
   double d = 0;
   for (int i = 0; i < 2; i++) {
     double l = v3_len(v3_add(v3_sub(q[i], v3_mul(q[i + 1], 2)), q[i + 2]));
     if (l > d) d = l;
   }
-  return clamp_segments(ceil(sqrt(0.75 * d / ms->tol)));
+  return clamp_segments(ceil(sqrt(3 * d / ms->tol)));
 }
 
 /* Border k's count, from its own control points only, canonically ordered
@@ -169,6 +200,7 @@ static int border_segments(const Measure *ms, const ScenePatch *p, int k) {
   Vec3 c[4], q[4];
   border_points(p, k, c);
   canonical_border(c);
+  if (outside_view(ms, c, 4)) return 1;
   for (int i = 0; i < 4; i++)
     if (!project(ms, c[i], &q[i])) return TESS_BEHIND_SEGMENTS;
   return curve_segments(ms, q);
@@ -180,6 +212,7 @@ static int border_segments(const Measure *ms, const ScenePatch *p, int k) {
 ** it under tol. */
 static void inner_segments(const Measure *ms, const ScenePatch *p, int *nu, int *nv) {
   Vec3 q[16];
+  if (outside_view(ms, p->cp, 16)) { *nu = *nv = 1; return; }
   for (int k = 0; k < 16; k++)
     if (!project(ms, p->cp[k], &q[k])) { *nu = *nv = TESS_BEHIND_SEGMENTS; return; }
   double du = 0, dv = 0, duv = 0;
@@ -217,8 +250,14 @@ typedef struct PatchWork {
   int *grid;          /* (nu + 1) x (nv + 1), only where used */
 } PatchWork;
 
-static int patch_vertex(PatchWork *w, Vec3 pos, double u, double v) {
-  return buf_vertex(w->b, pos, patch_normal(w->p, u, v), u, v);
+/* A vertex on the border at (u, v), its position pos from the curve. */
+static int border_vertex(PatchWork *w, Vec3 pos, double u, double v) {
+  return buf_vertex(w->b, pos, patch_normal(w->p, u, v), u, v, 1);
+}
+
+static int inner_vertex(PatchWork *w, double u, double v) {
+  Vec3 n, pos = patch_eval_normal(w->p, u, v, &n);
+  return buf_vertex(w->b, pos, n, u, v, 0);
 }
 
 /* The e + 1 vertices of border k, corners included, the inner points from
@@ -235,15 +274,17 @@ static void make_border(PatchWork *w, int k, int e, const int corner[4]) {
     double t = (double)s / e;            /* patch direction */
     Vec3 pos = cubic_point(c, rev ? (double)(e - s) / e : t);
     double u = k == 1 ? 1 : k == 3 ? 0 : t, v = k == 0 ? 0 : k == 2 ? 1 : t;
-    idx[s] = patch_vertex(w, pos, u, v);
+    idx[s] = border_vertex(w, pos, u, v);
   }
   w->border[k] = idx;
 }
 
-/* Grid vertex (i, j) of an nu x nv grid: the border's where it lies on one
-** (only when that border's count matches), else evaluated. */
+/* Where grid vertex (i, j) of an nu x nv grid is kept in PatchWork.grid. */
 static int grid_index(const PatchCut *c, int i, int j) { return j * (c->nu + 1) + i; }
 
+/* The grid's vertices: all of them when full (the borders' counts match
+** the grid, and its outer ring is the borders' vertices), else only the
+** inner ones, (1..nu-1) x (1..nv-1), all evaluated. */
 static void make_grid(PatchWork *w, const PatchCut *c, int full) {
   int lo = full ? 0 : 1, hiu = full ? c->nu : c->nu - 1, hiv = full ? c->nv : c->nv - 1;
   w->grid = xmalloc((size_t)(c->nu + 1) * (size_t)(c->nv + 1) * sizeof *w->grid);
@@ -256,7 +297,7 @@ static void make_grid(PatchWork *w, const PatchCut *c, int full) {
       else if (i == c->nu) *g = w->border[1][j];
       else {
         double u = (double)i / c->nu, v = (double)j / c->nv;
-        *g = patch_vertex(w, patch_eval(w->p, u, v, NULL, NULL), u, v);
+        *g = inner_vertex(w, u, v);
       }
     }
 }
@@ -316,8 +357,8 @@ static void stitch_border(PatchWork *w, const PatchCut *c, int k) {
 static void cut_patch(TessBuf *b, const ScenePatch *p, int face, PatchCut c) {
   PatchWork w = {b, p, face, {NULL, NULL, NULL, NULL}, NULL};
   int corner[4] = {
-    patch_vertex(&w, p->cp[0], 0, 0), patch_vertex(&w, p->cp[3], 1, 0),
-    patch_vertex(&w, p->cp[15], 1, 1), patch_vertex(&w, p->cp[12], 0, 1),
+    border_vertex(&w, p->cp[0], 0, 0), border_vertex(&w, p->cp[3], 1, 0),
+    border_vertex(&w, p->cp[15], 1, 1), border_vertex(&w, p->cp[12], 0, 1),
   };
   for (int k = 0; k < 4; k++) make_border(&w, k, c.e[k], corner);
   if (c.e[0] == c.nu && c.e[2] == c.nu && c.e[1] == c.nv && c.e[3] == c.nv) {
@@ -359,14 +400,23 @@ static double control_extent(const SceneGeometry *g) {
 
 /* Welds shared borders and builds topology. */
 static Mesh *finish_patches(const SceneGeometry *g, TessBuf *b) {
+  unsigned char *border = b->border;
+  b->border = NULL;
   Mesh *m = buf_to_mesh(b, 1);
-  if (g->npatches > 0) mesh_weld(m, TESS_WELD_REL * control_extent(g));
+  /* each corner keeps its own patch's normal where a weld joins patches
+  ** that meet at an angle (the weld drops it again if none do) */
+  m->corner_nrm = xmalloc((size_t)(m->ntris > 0 ? m->ntris : 1) * sizeof *m->corner_nrm);
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) m->corner_nrm[t][k] = m->nrm[m->tri[t][k]];
+  mesh_weld_marked(m, TESS_WELD_REL * control_extent(g), border);
+  free(border);
   mesh_build_edges(m);
   return m;
 }
 
 Mesh *tess_uniform(const SceneGeometry *g, int n) {
   TessBuf b = {0};
+  if (g->kind == GEOM_MESH) return tess_polygons(g);
   if (n < 1) n = 1;
   if (n > TESS_MAX_SEGMENTS) n = TESS_MAX_SEGMENTS;
   PatchCut c = {{n, n, n, n}, n, n};
@@ -380,8 +430,10 @@ Mesh *tess_uniform(const SceneGeometry *g, int n) {
 Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int width, int height,
                     double tolerance_px) {
   TessBuf b = {0};
+  if (g->kind == GEOM_MESH) return tess_polygons(g);
   Measure ms = {object_to_clip, 0.5 * (width > 0 ? width : 1), 0.5 * (height > 0 ? height : 1),
-                tolerance_px > TESS_MIN_TOLERANCE ? tolerance_px : TESS_MIN_TOLERANCE};
+                tolerance_px};
+  if (!(ms.tol > 0)) ms.tol = object_to_clip ? TESS_DEFAULT_PX : TESS_DEFAULT_REL * control_extent(g);
   for (int i = 0; g->kind == GEOM_PATCHES && i < g->npatches; i++) {
     ScenePatch p = cubic_patch(g, i);
     PatchCut c;
@@ -395,4 +447,131 @@ Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int widt
     cut_patch(&b, &p, i, c);
   }
   return finish_patches(g, &b);
+}
+
+/* ---- polygons ------------------------------------------------------------ */
+
+/* Newell's normal of polygon idx[0..n-1] (length = twice the area). */
+static Vec3 newell_normal(const Vec3 *v, const int *idx, int n) {
+  Vec3 r = {0, 0, 0};
+  for (int i = 0; i < n; i++) {
+    Vec3 a = v[idx[i]], b = v[idx[(i + 1) % n]];
+    r.x += (a.y - b.y) * (a.z + b.z);
+    r.y += (a.z - b.z) * (a.x + b.x);
+    r.z += (a.x - b.x) * (a.y + b.y);
+  }
+  return r;
+}
+
+/* Twice the signed area of 2D triangle abc (> 0: counter-clockwise). */
+static double area2(Vec2 a, Vec2 b, Vec2 c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+/* Whether p lies inside or on triangle abc (counter-clockwise). */
+static int in_triangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c) {
+  return area2(a, b, p) >= 0 && area2(b, c, p) >= 0 && area2(c, a, p) >= 0;
+}
+
+/* Whether ring[k] (of the n left, ring of indices into q) is an ear: convex,
+** and no other remaining corner inside it. */
+static int is_ear(const Vec2 *q, const int *ring, int n, int k) {
+  int a = ring[(k + n - 1) % n], b = ring[k], c = ring[(k + 1) % n];
+  if (area2(q[a], q[b], q[c]) <= 0) return 0;
+  for (int i = 0; i < n; i++) {
+    int r = ring[i];
+    if (r == a || r == b || r == c) continue;
+    if (in_triangle(q[r], q[a], q[b], q[c])) return 0;
+  }
+  return 1;
+}
+
+/* Ear clipping of polygon idx[0..n-1] projected on the plane across normal
+** nrm, so it runs counter-clockwise; triangles keep the polygon's winding.
+** A polygon with no ear left (self-intersecting) is finished as a fan. */
+static void clip_ears(TessBuf *b, const Vec3 *v, const int *idx, int n, Vec3 nrm, int face) {
+  Vec3 t1 = fabs(nrm.x) > 0.5 ? v3(0, 1, 0) : v3(1, 0, 0);
+  t1 = v3_norm(v3_sub(t1, v3_mul(nrm, v3_dot(t1, nrm))));
+  Vec3 t2 = v3_cross(nrm, t1);
+  Vec2 *q = xmalloc((size_t)n * sizeof *q);
+  int *ring = xmalloc((size_t)n * sizeof *ring);
+  for (int i = 0; i < n; i++) {
+    q[i].x = v3_dot(v[idx[i]], t1);
+    q[i].y = v3_dot(v[idx[i]], t2);
+    ring[i] = i;
+  }
+  int left = n, k = 0, misses = 0;
+  while (left > 3 && misses < left) {
+    if (is_ear(q, ring, left, k)) {
+      buf_tri(b, idx[ring[(k + left - 1) % left]], idx[ring[k]], idx[ring[(k + 1) % left]], face);
+      memmove(&ring[k], &ring[k + 1], (size_t)(left - k - 1) * sizeof *ring);
+      left--;
+      if (k >= left) k = 0;
+      misses = 0;
+    } else {
+      k = (k + 1) % left;
+      misses++;
+    }
+  }
+  for (int i = 1; i + 1 < left; i++) buf_tri(b, idx[ring[0]], idx[ring[i]], idx[ring[i + 1]], face);
+  free(q);
+  free(ring);
+}
+
+/* Whether polygon idx is convex seen along nrm (fan-safe). */
+static int is_convex(const Vec3 *v, const int *idx, int n, Vec3 nrm) {
+  for (int i = 0; i < n; i++) {
+    Vec3 a = v[idx[i]], b = v[idx[(i + 1) % n]], c = v[idx[(i + 2) % n]];
+    if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(c, b)), nrm) < 0) return 0;
+  }
+  return 1;
+}
+
+/* The valid corners of face f: indices in range, repeats in a row dropped. */
+static int face_corners(const SceneGeometry *g, int f, int *out) {
+  int n = 0;
+  for (int k = g->face_start[f]; k < g->face_start[f + 1]; k++) {
+    int i = g->face_index[k];
+    if (i < 0 || i >= g->nverts) continue;
+    if (n > 0 && out[n - 1] == i) continue;
+    out[n++] = i;
+  }
+  while (n > 1 && out[n - 1] == out[0]) n--;
+  return n;
+}
+
+Mesh *tess_polygons(const SceneGeometry *g) {
+  TessBuf b = {0};
+  int maxn = 0;
+  for (int f = 0; g->kind == GEOM_MESH && f < g->nfaces; f++) {
+    int n = g->face_start[f + 1] - g->face_start[f];
+    if (n > maxn) maxn = n;
+  }
+  int *idx = xmalloc((size_t)(maxn > 0 ? maxn : 1) * sizeof *idx);
+  for (int f = 0; g->kind == GEOM_MESH && f < g->nfaces; f++) {
+    int n = face_corners(g, f, idx);
+    if (n < 3) continue;
+    Vec3 nrm = v3_norm(newell_normal(g->verts, idx, n));
+    if (n == 3 || v3_len(nrm) == 0 || is_convex(g->verts, idx, n, nrm))
+      for (int i = 1; i + 1 < n; i++) buf_tri(&b, idx[0], idx[i], idx[i + 1], f);
+    else clip_ears(&b, g->verts, idx, n, nrm, f);
+  }
+  free(idx);
+  int nv = g->kind == GEOM_MESH ? g->nverts : 0;
+  b.pos = xmalloc((size_t)(nv > 0 ? nv : 1) * sizeof *b.pos);
+  b.nrm = xmalloc((size_t)(nv > 0 ? nv : 1) * sizeof *b.nrm);
+  if (nv > 0) memcpy(b.pos, g->verts, (size_t)nv * sizeof *b.pos);
+  b.nv = nv;
+  Mesh *m = buf_to_mesh(&b, 0);
+  mesh_compute_normals(m);
+  mesh_smooth_corners(m, TESS_SMOOTH_ANGLE);
+  mesh_build_edges(m);
+  return m;
+}
+
+Mesh *tess_geometry(const SceneGeometry *g, TessKind kind, int n, double tolerance_px,
+                    const Mat4 *object_to_clip, int width, int height) {
+  if (g->kind == GEOM_MESH) return tess_polygons(g);
+  if (kind == TESS_ADAPTIVE) return tess_adaptive(g, object_to_clip, width, height, tolerance_px);
+  return tess_uniform(g, n);
 }

@@ -10,9 +10,12 @@
 **   exr                      linear float (or half); alpha associated, as
 **                            EXR defines it: colour is multiplied by alpha
 **                            on write and divided on read
-** Every write goes to a temporary file beside the target and is renamed
-** over it only when complete, so a failed or interrupted write never leaves
-** a partial image under the real name.
+** Every write goes to a temporary file beside the target, named after it
+** with the extension kept ("out.png" -> "out.tmp-PID-SEQ.png", so OIIO
+** still picks the format), and is renamed over it only when complete: a
+** failed write removes it, and no write leaves a partial image under the
+** real name. TIFF and EXR carry a fixed DateTime, so the same image gives
+** the same bytes on every run.
 **
 ** Functions that can fail return 1 on success and 0 on failure, with a
 ** one-line reason naming the file in err (errlen bytes, may be 0).

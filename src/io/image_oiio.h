@@ -35,9 +35,10 @@ enum {
 };
 
 /* Results of read: success, the file is no image OIIO can open (missing,
-** unknown format, bad header), or the pixels could not be read (corrupt or
-** truncated data). */
-enum { SUMI_OIIO_OK = 1, SUMI_OIIO_NOT_IMAGE = 0, SUMI_OIIO_CORRUPT = -1 };
+** unknown format, bad header), the pixels could not be read (corrupt or
+** truncated data), or the header asks for more than the caller's limits
+** (px->width, height and channels then say how much). */
+enum { SUMI_OIIO_OK = 1, SUMI_OIIO_NOT_IMAGE = 0, SUMI_OIIO_CORRUPT = -1, SUMI_OIIO_TOO_LARGE = -2 };
 
 /* A described block of interleaved, row-major pixels, top row first. */
 typedef struct SumiOiioPixels {
@@ -71,7 +72,8 @@ typedef struct SumiOiioApi {
   ** bits, INT32 for 32-bit integer files, FLOAT otherwise), or a SUMI_OIIO_*
   ** type to convert to. On SUMI_OIIO_OK px is filled and px->data was
   ** allocated with malloc: the caller frees it. Otherwise returns
-  ** SUMI_OIIO_NOT_IMAGE or SUMI_OIIO_CORRUPT with OIIO's reason in err.
+  ** SUMI_OIIO_NOT_IMAGE, SUMI_OIIO_CORRUPT or SUMI_OIIO_TOO_LARGE with the
+  ** reason in err.
   ** max_pixels bounds width*height (a header asking for more is refused
   ** before any allocation); max_channels bounds the channel count. */
   int (*read)(const char *path, int want, long long max_pixels, int max_channels,

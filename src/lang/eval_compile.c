@@ -12,6 +12,7 @@
 
 #include "builtins.h"
 #include "eval_int.h"
+#include "schema.h"
 #include "parse.h"
 
 typedef struct Compiler {
@@ -69,6 +70,15 @@ const char *suggest_name(const char *name, const char *const *cands, int n) {
   return bestd <= limit ? best : NULL;
 }
 
+/* Room for one more element in an arena array of n: doubles at powers of
+** two (the old copy stays in the arena, freed with it). */
+static void *arena_grow(Arena *a, void *items, int n, size_t elem) {
+  if (n & (n - 1) || (n && n < 4)) return items;
+  void *bigger = arena_alloc(a, (size_t)(n < 4 ? 4 : n * 2) * elem);
+  if (n) memcpy(bigger, items, (size_t)n * elem);
+  return bigger;
+}
+
 static Scope *scope_new(Compiler *c, Scope *parent) {
   Scope *s = arena_alloc(c->ev->ast_arena, sizeof *s);
   s->parent = parent;
@@ -90,12 +100,13 @@ static int scope_add(Compiler *c, Scope *s, const char *name, BindKind kind, Src
     diag_error(loc, "`%s` is already defined in this scope", name);
     diag_note(s->b[old].loc, "`%s` was first defined here", name);
   }
-  s->b = xgrow(s->b, &s->cap, s->n + 1, sizeof *s->b);
+  s->b = arena_grow(c->ev->ast_arena, s->b, s->n, sizeof *s->b);
   Binding *b = &s->b[s->n];
   memset(b, 0, sizeof *b);
   b->name = name;
   b->kind = kind;
   b->loc = loc;
+  if (old >= 0) b->used = s->b[old].used = 1;   /* one message is enough */
   return s->n++;
 }
 
@@ -204,7 +215,7 @@ static ENode *compile_member(Compiler *c, AstNode *a) {
         collect_names(ns->scope, &cands, &n, &cap);
         const char *sug = suggest_name(m, cands, n);
         if (sug) diag_error(a->range, "`%s` has no `%s`; did you mean `%s`?", name, m, sug);
-        else diag_error(a->range, "`%s` (from \"%s\") has no `%s`", name, ns->path, m);
+        else diag_error(a->range, "`%s` has no `%s`", name, m);
         free(cands);
         return const_node(c, val_err(), a->range);
       }
@@ -228,10 +239,14 @@ static ENode *compile_call(Compiler *c, AstNode *a, int want_module) {
   e->n = a->list.count;
   e->kids = kids_of(c, e->n);
   e->names = arena_alloc(c->ev->ast_arena, (size_t)(e->n + 1) * sizeof *e->names);
+  e->simple = 1;
+  e->argloc = arena_alloc(c->ev->ast_arena, (size_t)(e->n + 1) * sizeof *e->argloc);
   for (int i = 0; i < e->n; i++) {
     AstNode *arg = a->list.items[i];
+    e->argloc[i] = arg->range;
     e->kids[i] = compile_expr(c, arg->kind == AST_ARG ? arg->a : arg);
     e->names[i] = arg->kind == AST_ARG && arg->name ? ev_intern(c->ev, arg->name) : NULL;
+    if (e->names[i]) e->simple = 0;
   }
   if (a->a && a->a->kind == AST_IDENT) e->what = ev_intern(c->ev, a->a->name);
   return e;
@@ -551,10 +566,9 @@ static int declares(const AstNode *a) {
   }
 }
 
-static void add_def(Scope *s, FnDef *d, int slot) {
-  int cap = s->defcap;
-  s->defs = xgrow(s->defs, &cap, s->ndefs + 1, sizeof *s->defs);
-  s->def_slot = xgrow(s->def_slot, &s->defcap, s->ndefs + 1, sizeof *s->def_slot);
+static void add_def(Arena *a, Scope *s, FnDef *d, int slot) {
+  s->defs = arena_grow(a, s->defs, s->ndefs, sizeof *s->defs);
+  s->def_slot = arena_grow(a, s->def_slot, s->ndefs, sizeof *s->def_slot);
   s->defs[s->ndefs] = d;
   s->def_slot[s->ndefs++] = slot;
 }
@@ -582,7 +596,7 @@ static void declare(Compiler *c, Scope *s, AstNode *a, ENode **slot_of, FnDef **
     d->is_module = is_mod;
     s->b[slot].def = d;
     *def = d;
-    add_def(s, d, slot);
+    add_def(c->ev->ast_arena, s, d, slot);
     if (!s->is_global) scope_mark_heap(s);
     break;
   }
@@ -746,41 +760,49 @@ static Body *compile_items(Compiler *c, AstList *items, Scope *scope, int force_
   return b;
 }
 
-/* Unused lets in the main file, innermost scopes first. */
-static void warn_unused(Scope *s) {
-  if (!s->warn_unused) return;
+/* Unused lets written in the main file (not in included ones, whose
+** names are there to be used or not), innermost scopes first. */
+static void warn_unused(const Scope *s, int main_file) {
+  if (!s || !s->warn_unused) return;
   for (int i = 0; i < s->n; i++) {
-    Binding *b = &s->b[i];
-    if (b->used || b->kind != B_LET || b->name[0] == '_') continue;
+    const Binding *b = &s->b[i];
+    if (b->used || b->kind != B_LET || b->name[0] == '_' || b->loc.file != main_file) continue;
     diag_warning(b->loc, "`%s` is defined but never used", b->name);
   }
 }
 
 /* Walk every scope reachable from a body to warn once per scope. */
-static void warn_body(Body *b);
-static void warn_node(ENode *e) {
+static void warn_body(const Body *b, int main_file);
+static void warn_def(const FnDef *d, int main_file) {
+  if (!d || !d->scope) return;
+  warn_unused(d->scope, main_file);
+  if (d->mbody) warn_body(d->mbody, main_file);
+}
+
+static void warn_node(const ENode *e, int main_file) {
   if (!e) return;
-  if (e->scope) warn_unused(e->scope);
-  if (e->def) { warn_unused(e->def->scope); warn_node(e->def->body); if (e->def->mbody) warn_body(e->def->mbody); }
-  warn_node(e->a); warn_node(e->b); warn_node(e->c);
-  for (int i = 0; i < e->n && e->kids; i++) warn_node(e->kids[i]);
-  if (e->body) warn_body(e->body);
-  if (e->body2) warn_body(e->body2);
+  warn_unused(e->scope, main_file);
+  if (e->op == E_FN) warn_def(e->def, main_file);
+  warn_node(e->a, main_file);
+  warn_node(e->b, main_file);
+  warn_node(e->c, main_file);
+  if (e->op != E_CONST)
+    for (int i = 0; i < e->n && e->kids; i++) warn_node(e->kids[i], main_file);
+  if (e->body) warn_body(e->body, main_file);
+  if (e->body2) warn_body(e->body2, main_file);
 }
 
-static void warn_body(Body *b) {
-  if (b->scope) warn_unused(b->scope);
-  for (int i = 0; i < b->n; i++) warn_node(b->items[i]);
-}
-
-static void warn_scope_defs(Scope *s) {
-  for (int i = 0; i < s->ndefs; i++) {
-    FnDef *d = s->defs[i];
-    if (!d->scope) continue;
-    warn_unused(d->scope);
-    warn_node(d->body);
-    if (d->mbody) { warn_body(d->mbody); warn_scope_defs(d->scope); }
+static void warn_scope_defs(const Scope *s, int main_file) {
+  for (int i = 0; s && i < s->ndefs; i++) {
+    warn_def(s->defs[i], main_file);
+    if (s->defs[i]->scope) warn_node(s->defs[i]->body, main_file);
   }
+}
+
+static void warn_body(const Body *b, int main_file) {
+  warn_unused(b->scope, main_file);
+  warn_scope_defs(b->scope, main_file);
+  for (int i = 0; i < b->n; i++) warn_node(b->items[i], main_file);
 }
 
 Body *compile_program(Eval *ev, AstNode *program, int file) {
@@ -793,9 +815,9 @@ Body *compile_program(Eval *ev, AstNode *program, int file) {
   g->is_global = 1;
   ev->global = g;
   Body *b = compile_items(&c, &program->list, g, 1);
-  warn_body(b);
-  warn_unused(g);
-  warn_scope_defs(g);
+  warn_body(b, file);
+  warn_unused(g, file);
+  warn_scope_defs(g, file);
   return b;
 }
 

@@ -44,13 +44,13 @@ typedef struct Binding {
 struct Scope {
   Scope *parent;
   Binding *b;
-  int n, cap;
+  int n;
   int heap;             /* a closure may capture this scope's Env */
   int is_global;
   int warn_unused;      /* declared in the main file: warn for unused lets */
   FnDef **defs;         /* hoisted fn/module definitions, made at Env entry */
   int *def_slot;
-  int ndefs, defcap;
+  int ndefs;
 };
 
 struct FnDef {
@@ -104,6 +104,8 @@ struct ENode {
   SrcRange *wordloc;
   int nwords;
   const char *what;           /* what a loop or call is, for limit messages */
+  int simple;                 /* E_CALL: positional arguments only */
+  SrcRange *argloc;           /* E_CALL: each argument as written (`name = value`) */
 };
 
 struct Namespace {
@@ -111,7 +113,6 @@ struct Namespace {
   Scope *scope;
   Env *env;
   Body *body;
-  int ran;                    /* 0 not yet, 1 running, 2 done */
 };
 
 /* A property or block collected while a block's items run. */
@@ -144,15 +145,6 @@ typedef struct ChildCtx {
   SrcRange site;
 } ChildCtx;
 
-typedef Value (*BuiltinFn)(Eval *ev, Value *args, int nargs, const ENode *call);
-
-struct Builtin {
-  const char *name;
-  BuiltinFn fn;
-  const char *params;        /* "a,b,c": names for named arguments */
-  int min_args, max_args;    /* max_args -1 = any number */
-  int is_module;             /* echo, assert, children */
-};
 
 struct Eval {
   Arena *arena;              /* values (the Scene's arena holds scene data) */
@@ -165,11 +157,14 @@ struct Eval {
   int sp, stack_cap;
   Value *scratch;            /* lists under construction */
   long long nscratch, capscratch;
+  Value **owned;             /* scratch buffers that became lists; freed at the end */
+  int nowned, capowned;
   long long iterations;
   int depth;
   CallRec *calls;
   int ncalls_cap;
   int stop;                  /* a limit was hit: unwind without more errors */
+  SrcRange where;            /* the list or builtin call allocating, for the memory limit */
   const ChildCtx *children;
   BlockVal *col;             /* the block collecting properties, NULL at top level */
   char *cstack_base;         /* for the C stack guard */
@@ -196,7 +191,6 @@ Value ev_str(Eval *ev, const char *s, int len);
 List *ev_list(Eval *ev, int n);
 Value ev_color(Eval *ev, double r, double g, double b, double a);
 Value ev_xform(Eval *ev, Mat4 m);
-Value ev_call_value(Eval *ev, const Value *f, Value *args, int nargs, const ENode *site);
 int ev_list_limit(Eval *ev, long long n, SrcRange at);
 Value ev_expr(Eval *ev, const ENode *e, Env *env);
 int ev_body(Eval *ev, const Body *b, Env *env);
@@ -206,17 +200,6 @@ Body *compile_program(Eval *ev, AstNode *program, int file);
 ENode *compile_define(Eval *ev, const char *def, int index);
 const char *suggest_name(const char *name, const char *const *cands, int n);
 
-/* builtins.c */
-const Builtin *builtin_table(int *n);
-int builtin_index(const char *name);
-
-/* schema.c */
-/* Check a finished top-level block against its schema and add it to the
-** scene; a style returns its index (else -1). */
-int schema_emit(Eval *ev, BlockVal *b);
-/* Whether property `prop` of a block of `kind` (with first word `word`)
-** takes symbols, so bare words in it are not looked up as names. */
-int schema_wants_symbol(const char *kind, const char *word, const char *prop);
-int schema_known_kind(const char *kind);
+int ev_children(Eval *ev, int only, SrcRange at);
 
 #endif

@@ -26,6 +26,7 @@ const char *val_type_name(const Value *v) {
   case V_GEOM: return "geometry";
   case V_STYLE: return "style";
   case V_SYMBOL: return "symbol";
+  case V_PAPER: return "crease pattern";
   case V_UNSET: return "undefined value";
   case V_ERR: return "error";
   }
@@ -199,6 +200,7 @@ void val_format(StrBuf *b, const Value *v, int raw) {
     else sb_printf(b, "geometry(%d vertices, %d faces)", v->u.g->nverts, v->u.g->nfaces);
     break;
   case V_STYLE: sb_printf(b, "style(%d)", v->aux); break;
+  case V_PAPER: sb_printf(b, "paper(%d vertices)", v->u.paper->nverts); break;
   case V_SYMBOL:
     sb_puts(b, v->u.sym->name);
     if (v->u.sym->args) {

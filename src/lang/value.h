@@ -19,6 +19,7 @@ typedef enum {
   V_GEOM,      /* a geometry block value (SceneGeometry) */
   V_STYLE,     /* a style: index into Scene.styles */
   V_SYMBOL,    /* a bare word in a property, maybe with arguments: crease(40) */
+  V_PAPER,     /* a crease pattern read by fold_file() (SceneOrigami) */
   V_UNSET,     /* internal: a slot whose let has not run yet */
   V_ERR        /* internal: an error was reported; propagate quietly */
 } ValueKind;
@@ -42,10 +43,13 @@ typedef struct Value {
     Closure *f;
     SceneGeometry *g;
     Symbol *sym;
+    SceneOrigami *paper;
   } u;
 } Value;
 
-struct List { int n; Value v[]; };
+/* v points just past the header, or (a long list built by a comprehension)
+** at the evaluator's scratch buffer, taken over to save a copy. */
+struct List { int n; Value *v; };
 
 static inline Value val_num(double n) { Value v; v.kind = V_NUM; v.aux = 0; v.u.n = n; return v; }
 static inline Value val_bool(int b) { Value v; v.kind = V_BOOL; v.aux = 0; v.u.n = b ? 1 : 0; return v; }

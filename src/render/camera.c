@@ -62,43 +62,6 @@ static void box_corner(Vec3 lo, Vec3 hi, int i, Vec3 *q) {
   *q = v3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
 }
 
-/* Perspective from direction dir toward the box centre, at the smallest
-** distance that keeps every box corner inside CAMERA_AUTO_FILL of the view.
-** A corner at offset r from the centre has lateral offsets x = r.right,
-** y = r.up and lies dist - r.dir in front of the eye; it is in view when
-** |x| <= tan(hfov/2) (dist - r.dir), so dist >= |x| / tan(hfov/2) + r.dir. */
-static void frame_perspective(Camera *c, Vec3 lo, Vec3 hi, Vec3 dir) {
-  Vec3 centre = v3_mul(v3_add(lo, hi), 0.5);
-  dir = v3_norm(dir);
-  c->kind = CAMERA_PERSPECTIVE;
-  c->fov = CAMERA_AUTO_FOV;
-  set_basis(c, v3_mul(dir, -1), v3(0, 0, 1));
-  double ty = tan(c->fov * M_PI / 360.0) * CAMERA_AUTO_FILL;
-  double tx = ty * c->width / c->height;
-  double dist = 0;
-  for (int i = 0; i < 8; i++) {
-    Vec3 q;
-    box_corner(lo, hi, i, &q);
-    Vec3 r = v3_sub(q, centre);
-    double along = v3_dot(r, dir);
-    double need = fmax(fabs(v3_dot(r, c->right)) / tx, fabs(v3_dot(r, c->up)) / ty) + along;
-    dist = fmax(dist, fmax(need, along * 1.01));
-  }
-  if (dist <= 0) dist = 1;
-  c->eye = v3_add(centre, v3_mul(dir, dist));
-}
-
-/* Orthographic from +z, +y up, showing the whole box. */
-static void frame_ortho_top(Camera *c, Vec3 lo, Vec3 hi) {
-  Vec3 centre = v3_mul(v3_add(lo, hi), 0.5);
-  double aspect = (double)c->width / c->height;
-  c->kind = CAMERA_ORTHO;
-  set_basis(c, v3(0, 0, -1), v3(0, 1, 0));
-  c->ortho_height = fmax(hi.y - lo.y, (hi.x - lo.x) / aspect) / CAMERA_AUTO_FILL;
-  if (c->ortho_height <= 0) c->ortho_height = 1;
-  c->eye = v3(centre.x, centre.y, hi.z + c->ortho_height);
-}
-
 /* Near and far planes around the box: the nearest and farthest corner
 ** depths, with a little room. A perspective near plane never reaches 0
 ** (depth precision): when the eye is inside the box it sits at far / 1e4. */
@@ -118,6 +81,78 @@ static void set_depth_range(Camera *c, Vec3 lo, Vec3 hi) {
     c->znear = zmin - pad > c->zfar * 1e-4 ? zmin - pad : c->zfar * 1e-4;
   else
     c->znear = zmin - pad > 0 ? zmin - pad : 0;
+}
+
+/* Fitting a perspective camera of fixed orientation to points q. With
+** x = q.right, y = q.up, z = q.forward and the eye at (ex, ey, ez) in the
+** same basis, q is in view when |x - ex| <= tx (z - ez) and likewise for
+** y; both are linear in the eye, so the nearest eye that sees every point
+** is ez = min((b - a) / 2tx, (d - c) / 2ty), ex = (a + b) / 2,
+** ey = (c + d) / 2, where a = max(x - tx z), b = min(x + tx z), and c, d
+** the same with y and ty: the points end up centred in the view. */
+void camera_fit_init(CameraFit *fit, const Camera *c) {
+  fit->ty = tan(c->fov * M_PI / 360.0) * CAMERA_AUTO_FILL;
+  fit->tx = fit->ty * c->width / c->height;
+  fit->a = fit->c = -DBL_MAX;
+  fit->b = fit->d = DBL_MAX;
+  fit->n = 0;
+}
+
+void camera_fit_add(CameraFit *fit, const Camera *c, Vec3 q) {
+  double x = v3_dot(q, c->right), y = v3_dot(q, c->up), z = v3_dot(q, c->forward);
+  fit->a = fmax(fit->a, x - fit->tx * z);
+  fit->b = fmin(fit->b, x + fit->tx * z);
+  fit->c = fmax(fit->c, y - fit->ty * z);
+  fit->d = fmin(fit->d, y + fit->ty * z);
+  if (fit->n == 0) { fit->lo = fit->hi = q; }
+  else {
+    fit->lo = v3(fmin(fit->lo.x, q.x), fmin(fit->lo.y, q.y), fmin(fit->lo.z, q.z));
+    fit->hi = v3(fmax(fit->hi.x, q.x), fmax(fit->hi.y, q.y), fmax(fit->hi.z, q.z));
+  }
+  fit->n++;
+}
+
+void camera_fit_apply(Camera *c, const CameraFit *fit) {
+  if (fit->n == 0) return;
+  double ez = fmin((fit->b - fit->a) / (2 * fit->tx), (fit->d - fit->c) / (2 * fit->ty));
+  double ex = (fit->a + fit->b) / 2, ey = (fit->c + fit->d) / 2;
+  /* a single point (or a flat one seen edge-on) needs some distance */
+  double size = v3_len(v3_sub(fit->hi, fit->lo));
+  Vec3 centre = v3_mul(v3_add(fit->lo, fit->hi), 0.5);
+  if (!(size > 0)) size = 1;
+  double zc = v3_dot(centre, c->forward);
+  if (zc - ez < 0.5 * size) ez = zc - 0.5 * size;
+  c->eye = v3_add(v3_add(v3_mul(c->right, ex), v3_mul(c->up, ey)), v3_mul(c->forward, ez));
+  set_depth_range(c, fit->lo, fit->hi);
+  c->view = view_matrix(c);
+  c->proj = proj_matrix(c);
+  c->world_to_clip = m4_mul(c->proj, c->view);
+}
+
+/* Perspective along -dir (forward), fitted to the box's corners. */
+static void frame_perspective(Camera *c, Vec3 lo, Vec3 hi, Vec3 dir) {
+  c->kind = CAMERA_PERSPECTIVE;
+  c->fov = CAMERA_AUTO_FOV;
+  set_basis(c, v3_mul(v3_norm(dir), -1), v3(0, 0, 1));
+  CameraFit fit;
+  camera_fit_init(&fit, c);
+  for (int i = 0; i < 8; i++) {
+    Vec3 q;
+    box_corner(lo, hi, i, &q);
+    camera_fit_add(&fit, c, q);
+  }
+  camera_fit_apply(c, &fit);
+}
+
+/* Orthographic from +z, +y up, showing the whole box. */
+static void frame_ortho_top(Camera *c, Vec3 lo, Vec3 hi) {
+  Vec3 centre = v3_mul(v3_add(lo, hi), 0.5);
+  double aspect = (double)c->width / c->height;
+  c->kind = CAMERA_ORTHO;
+  set_basis(c, v3(0, 0, -1), v3(0, 1, 0));
+  c->ortho_height = fmax(hi.y - lo.y, (hi.x - lo.x) / aspect) / CAMERA_AUTO_FILL;
+  if (c->ortho_height <= 0) c->ortho_height = 1;
+  c->eye = v3(centre.x, centre.y, hi.z + c->ortho_height);
 }
 
 int camera_setup(Camera *c, const SceneCamera *sc, int width, int height, Vec3 bmin, Vec3 bmax,

@@ -51,6 +51,23 @@ typedef struct Camera {
 int camera_setup(Camera *c, const SceneCamera *sc, int width, int height, Vec3 bmin, Vec3 bmax,
                  int origami_only, const char **why);
 
+/* Refitting an automatic perspective camera to the points it must show
+** (the tessellated surfaces rather than their control boxes): keeps the
+** orientation and fov, moves the eye to the nearest place that shows every
+** point within CAMERA_AUTO_FILL of the view, centred, and sets the depth
+** range around them.
+**   CameraFit fit; camera_fit_init(&fit, c);
+**   for each point q: camera_fit_add(&fit, c, q);
+**   camera_fit_apply(c, &fit);    (no points: the camera is unchanged) */
+typedef struct CameraFit {
+  double tx, ty, a, b, c, d;
+  Vec3 lo, hi;
+  long n;
+} CameraFit;
+void camera_fit_init(CameraFit *fit, const Camera *c);
+void camera_fit_add(CameraFit *fit, const Camera *c, Vec3 q);
+void camera_fit_apply(Camera *c, const CameraFit *fit);
+
 /* The same camera for an image scale times as large on each side (the
 ** G-buffer of a supersampled frame, a reference image at ref_scale). */
 Camera camera_scaled(const Camera *c, int width, int height);

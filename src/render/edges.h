@@ -37,6 +37,7 @@ typedef struct LineObjEdges {
   int *id;                 /* per mesh edge: global id (1-based), 0 = not important */
   int *adj_start;          /* nverts + 1 offsets into adj: the vertex -> edge graph */
   int *adj;                /* incident mesh edges of each vertex, in edge order */
+  unsigned char *front;    /* per triangle: its front faces the viewer */
 } LineObjEdges;
 
 /* Every important edge of every object; id i + 1 is entry i. */
@@ -56,11 +57,22 @@ typedef struct LineEdges {
 void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam);
 void line_edges_free(LineEdges *e);
 
+/* Run fn(ctx, task, worker) for task 0..ntasks-1 on up to threads workers
+** (the caller is one of them); tasks are handed out in order, so results
+** that depend only on the task, never on the worker, are deterministic. */
+void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int worker), void *ctx);
+
 /* The kinds (EdgeKindBits, restricted to the style's kinds) that make mesh
 ** edge e important for a viewer at eye (perspective) or looking along
 ** forward (ortho); world holds the mesh's world positions and fn its unit
 ** world face normals (zero for a degenerate face). Exposed for tests. */
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam);
+
+/* n zeroed bytes for a frame-sized buffer. Big ones are mapped on 2 MiB
+** boundaries with MADV_HUGEPAGE, so they cost a few page faults instead of
+** thousands. Free with line_big_free(p, n) (the same n). */
+void *line_big_zalloc(size_t n);
+void line_big_free(void *p, size_t n);
 
 #endif

@@ -99,11 +99,25 @@ typedef struct SceneLines {
   SrcRange loc;
 } SceneLines;
 
+/* A property of a pass that has no field of its own (threshold, bokashi,
+** ink, noise, pattern): the schema checked its name and type; the renderer
+** reads it with scene_style_param(). */
+typedef struct SceneParam {
+  const char *pass;           /* "shade", "noise", "pattern" */
+  const char *name;
+  int n;                      /* numbers: a number, a vector, or a colour's linear r, g, b, a */
+  double *num;
+  const char *str;            /* a string, or a symbol's name (its arguments in num), else NULL */
+  SrcRange loc;
+} SceneParam;
+
 typedef struct SceneStyle {
   const char *name;           /* NULL for an anonymous style */
   Color base;
   SceneShade shade;
   SceneLines lines;
+  int nparams;
+  SceneParam *params;
   SrcRange loc;
 } SceneStyle;
 
@@ -210,5 +224,7 @@ void scene_init(Scene *s);
 void scene_free(Scene *s);
 /* The style every object without one gets. */
 SceneStyle scene_default_style(void);
+/* A pass parameter without a field of its own, or NULL when not given. */
+const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const char *name);
 
 #endif

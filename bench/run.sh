@@ -1,0 +1,86 @@
+#!/bin/sh
+# make bench: the toon teapot (bench/teapot_toon.npr, 25k triangles) at
+# 512x512 and 1920x1080 on 1 and 2 threads, against POV-Ray rendering the
+# same teapot (its 32 bicubic patches) in the same invocation.
+#
+#   sh bench/run.sh [path/to/sumi]
+#
+# For each size and thread count: the median wall time of whole runs
+# (hyperfine), the same command at 1x1 pixels (start-up, parsing,
+# tessellation, writing an empty image), and their difference, the
+# rendering work. Ratios: POV-Ray's over sumi's, for the rendering work and
+# for whole processes. Then sumi's per-stage times (--stats) of its median
+# run and its peak RSS. POV-Ray needs `povray`, python3 and the peer
+# scripts in $SUMI_SHARED (default ../shared); without them that part is
+# skipped. RUNS sets the runs per command (default 10; POV-Ray gets
+# RUNS / 2, at least 3).
+set -e
+SUMI=${1:-build/sumi}
+SHARED=${SUMI_SHARED:-../shared}
+RUNS=${RUNS:-10}
+POV_RUNS=$((RUNS / 2 > 3 ? RUNS / 2 : 3))
+DIR=build/bench
+SCENE=bench/teapot_toon.npr
+mkdir -p "$DIR"
+command -v hyperfine >/dev/null || { echo "bench: needs hyperfine (make deps with bench's PEER_PACKAGES)"; exit 1; }
+"$SUMI" render "$SCENE" -o "$DIR/teapot.png" --quiet   # must succeed before timing anything
+
+pov=""
+if command -v povray >/dev/null && command -v python3 >/dev/null &&
+   [ -f "$SHARED/peers/make_pov.py" ] && [ -f "$SHARED/data/teapot.txt" ]; then
+  python3 "$SHARED/peers/make_pov.py" "$SHARED/data/teapot.txt" "$DIR/teapot.pov" >/dev/null
+  povray +I"$DIR/teapot.pov" +O"$DIR/pov_warm.png" +FN +W64 +H64 -D -A +WT1 >/dev/null 2>&1 && pov=1
+fi
+[ -n "$pov" ] || echo "bench: POV-Ray or \$SUMI_SHARED/peers missing: sumi only"
+
+# median seconds of a command (hyperfine, runs $1, then the command)
+median() {
+  runs=$1; shift
+  hyperfine -N --style none --warmup 1 --runs "$runs" --export-json "$DIR/hf.json" "$*" >/dev/null 2>&1
+  python3 -c 'import json,sys; print("%.4f" % json.load(open(sys.argv[1]))["results"][0]["median"])' "$DIR/hf.json"
+}
+ms() { python3 -c 'import sys; print("%.1f" % (float(sys.argv[1]) * 1000))' "$1"; }
+ratio() { python3 -c 'import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print("%.1fx" % (a / b) if b > 0 else "-")' "$1" "$2"; }
+
+printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' size thr "sumi ms" "1x1 ms" "work ms" "pov ms" "1x1 ms" "work ms" "work x" "proc x"
+for size in 512x512 1920x1080; do
+  W=${size%x*}; H=${size#*x}
+  for t in 1 2; do
+    s_run=$(median "$RUNS" "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --quiet)
+    s_one=$(median "$RUNS" "$SUMI" render "$SCENE" -o "$DIR/s1.png" -W 1 -H 1 --threads "$t" --quiet)
+    s_work=$(python3 -c "print($s_run - $s_one)")
+    eval "work_${W}_$t=$s_work"
+    if [ -n "$pov" ]; then
+      p_run=$(median "$POV_RUNS" povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t")
+      p_one=$(median "$POV_RUNS" povray +I"$DIR/teapot.pov" +O"$DIR/p1.png" +FN +W1 +H1 -D -A +WT"$t")
+      p_work=$(python3 -c "print($p_run - $p_one)")
+      printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
+        "$(ms "$s_work")" "$(ms "$p_run")" "$(ms "$p_one")" "$(ms "$p_work")" "$(ratio "$p_work" "$s_work")" \
+        "$(ratio "$p_run" "$s_run")"
+    else
+      printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
+        "$(ms "$s_work")" - - - - -
+    fi
+  done
+  eval "w1=\$work_${W}_1; w2=\$work_${W}_2"
+  echo "  $size: sumi 2 threads vs 1 (rendering work): $(ratio "$w1" "$w2")"
+done
+echo "(median of $RUNS runs for sumi, $POV_RUNS for POV-Ray; work = run - the same command at 1x1;"
+echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
+
+# Per-stage times: the --stats of the median of 5 runs by total wall time.
+for size in 512x512 1920x1080; do
+  W=${size%x*}; H=${size#*x}
+  for t in 1 2; do
+    for i in 1 2 3 4 5; do
+      /usr/bin/time -f "%e" -o "$DIR/st.$i.time" \
+        "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --stats --quiet 2>"$DIR/st.$i.txt"
+    done
+    med=$(for i in 1 2 3 4 5; do echo "$(cat "$DIR/st.$i.time") $i"; done | sort -n | sed -n 3p | cut -d' ' -f2)
+    echo "sumi $size, $t thread(s), per stage (median run of 5):"
+    grep '^stats:' "$DIR/st.$med.txt" | sed 's/^stats: /  /'
+  done
+done
+
+[ -f bench/subdiv.sh ] && sh bench/subdiv.sh "$SUMI"
+exit 0

@@ -1,0 +1,278 @@
+/*
+** Subdivision surfaces through OpenSubdiv: SceneGeometry -> bridge
+** topology -> uniform refinement -> triangle Mesh with limit positions,
+** limit normals and crease tags (see subdiv.h).
+*/
+#include "subdiv.h"
+
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+
+/* ---- names and counts -------------------------------------------------- */
+
+int subdiv_scheme_parse(const char *name, SumiOsdScheme *out) {
+  if (!name || !strcmp(name, "catmark")) *out = SUMI_OSD_CATMARK;
+  else if (!strcmp(name, "loop")) *out = SUMI_OSD_LOOP;
+  else if (!strcmp(name, "bilinear")) *out = SUMI_OSD_BILINEAR;
+  else return 0;
+  return 1;
+}
+
+int subdiv_boundary_parse(const char *name, SumiOsdBoundary *out) {
+  if (!name || !strcmp(name, "edge_and_corner")) *out = SUMI_OSD_BOUNDARY_EDGE_AND_CORNER;
+  else if (!strcmp(name, "edge_only")) *out = SUMI_OSD_BOUNDARY_EDGE_ONLY;
+  else if (!strcmp(name, "none")) *out = SUMI_OSD_BOUNDARY_NONE;
+  else return 0;
+  return 1;
+}
+
+/* Level 1 splits an n-gon into n quads (catmark, bilinear) or a triangle
+** into 4 (loop); every later level multiplies by 4. */
+long subdiv_face_count(const SceneGeometry *g) {
+  SumiOsdScheme scheme = SUMI_OSD_CATMARK;
+  subdiv_scheme_parse(g->subdiv_scheme, &scheme);
+  long n = 0;
+  for (int f = 0; f < g->nfaces; f++) {
+    int size = g->face_start[f + 1] - g->face_start[f];
+    n += scheme == SUMI_OSD_LOOP ? 4 : (size == 4 ? 4 : size);
+    if (n > INT_MAX) return INT_MAX;
+  }
+  for (int l = 1; l < g->subdiv_level; l++) {
+    n *= 4;
+    if (n > INT_MAX) return INT_MAX;
+  }
+  return n;
+}
+
+/* ---- topology ---------------------------------------------------------- */
+
+int subdiv_topology(const SceneGeometry *g, SumiOsdBoundary boundary, SubdivTopology *st,
+                    char *err, size_t errlen) {
+  memset(st, 0, sizeof *st);
+  SumiOsdTopology *t = &st->topo;
+  if (!subdiv_scheme_parse(g->subdiv_scheme, &t->scheme)) {
+    snprintf(err, errlen, "unknown subdivision scheme \"%s\" (use catmark, loop or bilinear)",
+             g->subdiv_scheme);
+    return 0;
+  }
+  t->boundary = boundary;
+  t->nverts = g->nverts;
+  t->nfaces = g->nfaces;
+  st->face_size = xmalloc(sizeof(int) * (size_t)(g->nfaces > 0 ? g->nfaces : 1));
+  for (int f = 0; f < g->nfaces; f++) st->face_size[f] = g->face_start[f + 1] - g->face_start[f];
+  t->face_size = st->face_size;
+  t->face_index = g->face_index;
+  int nc = g->ncreases, nk = g->ncorners;
+  st->crease_verts = xmalloc(sizeof(int) * (size_t)(2 * nc + 1));
+  st->crease_sharpness = xmalloc(sizeof(float) * (size_t)(nc + 1));
+  for (int c = 0; c < nc; c++) {
+    st->crease_verts[2 * c] = g->creases[c].a;
+    st->crease_verts[2 * c + 1] = g->creases[c].b;
+    st->crease_sharpness[c] = (float)g->creases[c].sharpness;
+  }
+  st->corner_verts = xmalloc(sizeof(int) * (size_t)(nk + 1));
+  st->corner_sharpness = xmalloc(sizeof(float) * (size_t)(nk + 1));
+  for (int c = 0; c < nk; c++) {
+    st->corner_verts[c] = g->corners[c].v;
+    st->corner_sharpness[c] = (float)g->corners[c].sharpness;
+  }
+  t->ncreases = nc;
+  t->crease_verts = st->crease_verts;
+  t->crease_sharpness = st->crease_sharpness;
+  t->ncorners = nk;
+  t->corner_verts = st->corner_verts;
+  t->corner_sharpness = st->corner_sharpness;
+  return 1;
+}
+
+void subdiv_topology_free(SubdivTopology *st) {
+  free(st->face_size);
+  free(st->crease_verts);
+  free(st->crease_sharpness);
+  free(st->corner_verts);
+  free(st->corner_sharpness);
+  memset(st, 0, sizeof *st);
+}
+
+int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
+  if (g->kind != GEOM_MESH) {
+    snprintf(err, errlen, "subdivision needs a polygon mesh");
+    return 0;
+  }
+  if (g->subdiv_level < 1 || g->subdiv_level > SUBDIV_MAX_LEVEL) {
+    snprintf(err, errlen, "subdivision level %d is outside 1..%d (SUBDIV_MAX_LEVEL)",
+             g->subdiv_level, SUBDIV_MAX_LEVEL);
+    return 0;
+  }
+  long n = subdiv_face_count(g);
+  if (n > SUBDIV_MAX_FACES) {
+    snprintf(err, errlen,
+             "subdivision to level %d gives %ld faces; the limit is %d (SUBDIV_MAX_FACES)",
+             g->subdiv_level, n, SUBDIV_MAX_FACES);
+    return 0;
+  }
+  SubdivTopology st;
+  int ok = subdiv_topology(g, boundary, &st, err, errlen);
+  SumiOsdMesh *osd = NULL;
+  if (ok) ok = sumi_osd_create(&st.topo, &osd, err, errlen);
+  sumi_osd_destroy(osd);
+  subdiv_topology_free(&st);
+  return ok;
+}
+
+/* ---- the mesh ---------------------------------------------------------- */
+
+/* Edge slot for one more triangle side. */
+static void edge_add_face(MeshEdge *e, int t) {
+  if (e->f[0] < 0) e->f[0] = t;
+  else if (e->f[1] < 0) e->f[1] = t;
+  else e->nonmanifold = 1;
+}
+
+/* Side k of triangle t gets edge e when e joins the side's two corners. */
+static int set_side(Mesh *m, int t, int k, int e) {
+  int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
+  MeshEdge *ed = &m->edges[e];
+  if (!((ed->v[0] == a && ed->v[1] == b) || (ed->v[0] == b && ed->v[1] == a))) return 0;
+  m->tri_edges[t][k] = e;
+  edge_add_face(ed, t);
+  return 1;
+}
+
+/* The mesh's edges straight from OpenSubdiv's: the level's edges (with
+** their crease tags), then one diagonal for each quad, in the order
+** fill_triangles made the triangles. Returns 0 when the level's topology
+** does not match the triangles (a degenerate face), so the caller falls
+** back to mesh_build_edges(). */
+static int edges_from_level(Mesh *m, const SumiOsdRefined *r) {
+  int nquads = 0;
+  for (int f = 0; f < r->nfaces; f++) nquads += r->face_start[f + 1] - r->face_start[f] == 4;
+  m->nedges = r->nedges + nquads;
+  m->edges = xmalloc(sizeof *m->edges * (size_t)(m->nedges > 0 ? m->nedges : 1));
+  m->tri_edges = xmalloc(sizeof *m->tri_edges * (size_t)(m->ntris > 0 ? m->ntris : 1));
+  for (int e = 0; e < r->nedges; e++) {
+    int a = r->edge_verts[2 * e], b = r->edge_verts[2 * e + 1];
+    m->edges[e] = (MeshEdge){{a < b ? a : b, a < b ? b : a}, {-1, -1}, r->edge_tag[e], 0};
+  }
+  int t = 0, diag = r->nedges;
+  for (int f = 0; f < r->nfaces; f++) {
+    const int *fe = r->face_edges + r->face_start[f];
+    int n = r->face_start[f + 1] - r->face_start[f];
+    if (n == 3) {
+      /* fill_triangles keeps a triangle's corner order */
+      for (int k = 0; k < 3; k++)
+        if (!set_side(m, t, k, fe[k])) return 0;
+      t++;
+      continue;
+    }
+    /* quad split at corner k0 = tri[t][0]: sides k0, k0+1, diagonal; diagonal, k0+2, k0+3 */
+    const int *v = r->face_index + r->face_start[f];
+    int k0 = v[0] == m->tri[t][0] ? 0 : 1;
+    int a = m->tri[t][0], b = m->tri[t][2];
+    m->edges[diag] = (MeshEdge){{a < b ? a : b, a < b ? b : a}, {-1, -1}, 0, 0};
+    if (!set_side(m, t, 0, fe[k0]) || !set_side(m, t, 1, fe[(k0 + 1) % 4]) ||
+        !set_side(m, t, 2, diag) || !set_side(m, t + 1, 0, diag) ||
+        !set_side(m, t + 1, 1, fe[(k0 + 2) % 4]) || !set_side(m, t + 1, 2, fe[(k0 + 3) % 4]))
+      return 0;
+    t += 2;
+    diag++;
+  }
+  return t == m->ntris;
+}
+
+/* Fallback: hash the triangles' sides, then copy the tags across. */
+static void edges_by_hash(Mesh *m, const SumiOsdRefined *r) {
+  free(m->edges);
+  free(m->tri_edges);
+  m->edges = NULL;
+  m->tri_edges = NULL;
+  mesh_build_edges(m);
+  int *first = xmalloc(sizeof(int) * (size_t)(m->nverts > 0 ? m->nverts : 1));
+  int *next = xmalloc(sizeof(int) * (size_t)(m->nedges > 0 ? m->nedges : 1));
+  for (int v = 0; v < m->nverts; v++) first[v] = -1;
+  for (int e = 0; e < m->nedges; e++) {   /* edges listed by their lower vertex */
+    next[e] = first[m->edges[e].v[0]];
+    first[m->edges[e].v[0]] = e;
+  }
+  for (int i = 0; i < r->nsharp; i++) {
+    int a = r->sharp_verts[2 * i], b = r->sharp_verts[2 * i + 1];
+    if (a > b) { int x = a; a = b; b = x; }
+    for (int e = first[a]; e >= 0; e = next[e])
+      if (m->edges[e].v[1] == b) m->edges[e].sharpness = r->sharp[i];
+  }
+  free(first);
+  free(next);
+}
+
+static double dist2(const double *p, const double *q) {
+  double x = p[0] - q[0], y = p[1] - q[1], z = p[2] - q[2];
+  return x * x + y * y + z * z;
+}
+
+/* Triangles of the refined faces: quads split along their shorter
+** diagonal, triangles as they are. */
+static int triangle_count(const SumiOsdRefined *r) {
+  int n = 0;
+  for (int f = 0; f < r->nfaces; f++) n += r->face_start[f + 1] - r->face_start[f] - 2;
+  return n;
+}
+
+static void fill_triangles(Mesh *m, const SumiOsdRefined *r) {
+  int t = 0;
+  for (int f = 0; f < r->nfaces; f++) {
+    const int *v = r->face_index + r->face_start[f];
+    int n = r->face_start[f + 1] - r->face_start[f];
+    int k0 = 0;  /* fan origin: for a quad, the end of the shorter diagonal */
+    if (n == 4 && dist2(r->limit + 3 * v[1], r->limit + 3 * v[3]) <
+                      dist2(r->limit + 3 * v[0], r->limit + 3 * v[2]))
+      k0 = 1;
+    for (int k = 1; k + 1 < n; k++) {
+      m->tri[t][0] = v[k0];
+      m->tri[t][1] = v[(k0 + k) % n];
+      m->tri[t][2] = v[(k0 + k + 1) % n];
+      m->tri_face[t++] = r->face_base[f];
+    }
+  }
+}
+
+/* Limit normals, turned to agree with the area-weighted face normals; a
+** vertex whose limit normal is undefined keeps the face-based one. */
+static void fill_normals(Mesh *m, const SumiOsdRefined *r) {
+  mesh_compute_normals(m);
+  for (int i = 0; i < m->nverts; i++) {
+    Vec3 n = v3(r->normal[3 * i], r->normal[3 * i + 1], r->normal[3 * i + 2]);
+    if (!(v3_len(n) > 0.5)) continue;
+    m->nrm[i] = v3_dot(n, m->nrm[i]) < 0 ? v3_mul(n, -1) : n;
+  }
+}
+
+Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRefined *refined,
+                     char *err, size_t errlen) {
+  if (!subdiv_check(g, boundary, err, errlen)) return NULL;
+  SubdivTopology st;
+  if (!subdiv_topology(g, boundary, &st, err, errlen)) return NULL;
+  SumiOsdMesh *osd = NULL;
+  SumiOsdRefined r;
+  memset(&r, 0, sizeof r);
+  int ok = sumi_osd_create(&st.topo, &osd, err, errlen) &&
+           sumi_osd_refine(osd, g->subdiv_level, (const double *)g->verts, &r, err, errlen);
+  sumi_osd_destroy(osd);
+  subdiv_topology_free(&st);
+  if (!ok) return NULL;
+  Mesh *m = mesh_create(r.nverts, triangle_count(&r));
+  memcpy(m->pos, r.limit, sizeof(Vec3) * (size_t)r.nverts);
+  fill_triangles(m, &r);
+  if (!edges_from_level(m, &r)) edges_by_hash(m, &r);
+  fill_normals(m, &r);
+  if (refined) *refined = r;
+  else sumi_osd_refined_free(&r);
+  return m;
+}
+
+Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
+  return subdiv_mesh_ex(g, boundary, NULL, err, errlen);
+}

@@ -1,0 +1,570 @@
+/*
+** Image buffers and image files. Pixels are converted here (sRGB encoding
+** and decoding by exact tables, alpha association for EXR) and handed to
+** the OpenImageIO bridge, which this file loads with dlopen on first use:
+** libsumi_oiio.so is looked for beside the running binary (an uninstalled
+** build/), in PREFIX/lib/sumi/ for a binary in PREFIX/bin/, and one level up
+** (test binaries in build/unit/). Writes go through a temporary file that
+** is renamed into place (see image.h).
+*/
+#include "image.h"
+
+#include "../base/mem.h"
+#include "image_oiio.h"
+
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define BRIDGE_NAME "libsumi_oiio.so"
+
+/* Buckets of the linear -> sRGB 8-bit encoder: [0, 1) is cut into
+** SRGB_BUCKETS equal steps, each narrower than the smallest gap between
+** two code thresholds (~3.0e-4 near black), so a bucket's first code is at
+** most one step below the answer. */
+#define SRGB_BUCKETS 4096
+
+/* Attempts at a fresh temporary name before giving up (a name is taken
+** only if a file of that name already exists). */
+#define TMP_NAME_TRIES 100
+
+/* ---- errors --------------------------------------------------------- */
+
+static void set_err(char *err, size_t errlen, const char *fmt, ...)
+  __attribute__((format(printf, 3, 4)));
+
+static void set_err(char *err, size_t errlen, const char *fmt, ...) {
+  if (!err || errlen == 0) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, errlen, fmt, ap);
+  va_end(ap);
+}
+
+/* ---- sRGB tables ------------------------------------------------------ */
+
+static pthread_once_t srgb_once = PTHREAD_ONCE_INIT;
+static float srgb_decode[256];              /* code -> linear */
+static double srgb_threshold[257];          /* smallest linear value of each code */
+static uint8_t srgb_bucket[SRGB_BUCKETS + 1];
+
+static double srgb_to_linear_d(double s) {
+  return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
+}
+
+static double linear_to_srgb_d(double v) {
+  return v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+
+static void srgb_init(void) {
+  for (int k = 0; k < 256; k++) srgb_decode[k] = (float)srgb_to_linear_d(k / 255.0);
+  srgb_threshold[0] = -INFINITY;
+  for (int k = 1; k < 256; k++) srgb_threshold[k] = srgb_to_linear_d((k - 0.5) / 255.0);
+  srgb_threshold[256] = INFINITY;
+  int k = 0;
+  for (int b = 0; b <= SRGB_BUCKETS; b++) {
+    double v = (double)b / SRGB_BUCKETS;
+    while (v >= srgb_threshold[k + 1]) k++;
+    srgb_bucket[b] = (uint8_t)k;
+  }
+}
+
+/* The code whose threshold interval holds v: round(255 * srgb(v)) exactly. */
+static inline uint8_t encode8(float v) {
+  if (!(v > 0.0f)) return 0;               /* negative, zero or NaN */
+  if (v >= 1.0f) return 255;
+  int k = srgb_bucket[(int)(v * SRGB_BUCKETS)];
+  while ((double)v >= srgb_threshold[k + 1]) k++;
+  return (uint8_t)k;
+}
+
+static inline uint8_t alpha8(float a) {
+  if (!(a > 0.0f)) return 0;
+  if (a >= 1.0f) return 255;
+  return (uint8_t)lrintf(a * 255.0f);
+}
+
+static uint16_t encode16(float v) {
+  if (!(v > 0.0f)) return 0;
+  if (v >= 1.0f) return 65535;
+  return (uint16_t)lrint(linear_to_srgb_d(v) * 65535.0);
+}
+
+static inline uint16_t alpha16(float a) {
+  if (!(a > 0.0f)) return 0;
+  if (a >= 1.0f) return 65535;
+  return (uint16_t)lrintf(a * 65535.0f);
+}
+
+uint8_t image_linear_to_srgb8(float v) {
+  pthread_once(&srgb_once, srgb_init);
+  return encode8(v);
+}
+
+float image_srgb8_to_linear(int code) {
+  pthread_once(&srgb_once, srgb_init);
+  return srgb_decode[code < 0 ? 0 : code > 255 ? 255 : code];
+}
+
+/* ---- Image ------------------------------------------------------------- */
+
+Image *image_create(int w, int h, int channels) {
+  if (w <= 0 || h <= 0 || channels < 1 || channels > IMAGE_MAX_CHANNELS)
+    sumi_fatal("image_create: bad size %dx%d with %d channels", w, h, channels);
+  Image *img = xmalloc(sizeof *img);
+  img->width = w;
+  img->height = h;
+  img->channels = channels;
+  img->data = xcalloc((size_t)w * (size_t)h * (size_t)channels, sizeof(float));
+  return img;
+}
+
+void image_destroy(Image *img) {
+  if (!img) return;
+  free(img->data);
+  free(img);
+}
+
+int image_alpha_channel(const Image *img) {
+  return img->channels == 2 || img->channels == 4 ? img->channels - 1 : -1;
+}
+
+static size_t image_values(const Image *img) {
+  return (size_t)img->width * (size_t)img->height * (size_t)img->channels;
+}
+
+/* Encode npix pixels of nc channels (alpha at ac, or -1) to 8-bit codes.
+** Flat regions are the rule in stylised images, so a pixel equal to the
+** one before it reuses its codes (halves the time of a toon frame). */
+static void encode_pixels8(const float *src, uint8_t *dst, size_t npix, int nc, int ac) {
+  for (size_t p = 0; p < npix; p++, src += nc, dst += nc) {
+    int same = p > 0;
+    for (int c = 0; c < nc && same; c++) same = src[c] == src[c - nc];
+    if (same) {
+      for (int c = 0; c < nc; c++) dst[c] = dst[c - nc];
+      continue;
+    }
+    for (int c = 0; c < nc; c++) dst[c] = c == ac ? alpha8(src[c]) : encode8(src[c]);
+  }
+}
+
+void image_to_srgb8(const Image *img, uint8_t *out) {
+  pthread_once(&srgb_once, srgb_init);
+  size_t npix = (size_t)img->width * (size_t)img->height;
+  encode_pixels8(img->data, out, npix, img->channels, image_alpha_channel(img));
+}
+
+/* ---- the bridge library ---------------------------------------------- */
+
+static pthread_once_t bridge_once = PTHREAD_ONCE_INIT;
+static const SumiOiioApi *bridge;
+static char bridge_error[1024];
+static double bridge_seconds;
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Directory of the running binary into dir (no trailing slash); 0 if
+** /proc/self/exe cannot be read. */
+static int exe_dir(char *dir, size_t size) {
+  ssize_t n = readlink("/proc/self/exe", dir, size - 1);
+  if (n <= 0 || (size_t)n >= size - 1) return 0;
+  dir[n] = '\0';
+  char *slash = strrchr(dir, '/');
+  if (!slash) return 0;
+  *slash = '\0';
+  return 1;
+}
+
+/* dlopen path and fetch its table; 0 with bridge_error set on failure. */
+static int bridge_open(const char *path) {
+  void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  if (!lib) {
+    set_err(bridge_error, sizeof bridge_error, "cannot load the image library: %s", dlerror());
+    return 0;
+  }
+  SumiOiioApiFn fn;
+  *(void **)&fn = dlsym(lib, SUMI_OIIO_API_SYMBOL);
+  const SumiOiioApi *api = fn ? fn() : NULL;
+  if (!api || api->version != SUMI_OIIO_API_VERSION) {
+    set_err(bridge_error, sizeof bridge_error,
+            "image library %s is from another build (interface version %d, want %d); rebuild "
+            "with make", path, api ? api->version : -1, SUMI_OIIO_API_VERSION);
+    dlclose(lib);
+    return 0;
+  }
+  bridge = api;                /* never dlclose'd: OIIO keeps threads and state */
+  return 1;
+}
+
+static void bridge_init(void) {
+  char dir[PATH_MAX], path[PATH_MAX + 64];
+  if (!exe_dir(dir, sizeof dir)) {
+    set_err(bridge_error, sizeof bridge_error,
+            "cannot find the image library: /proc/self/exe is unreadable");
+    return;
+  }
+  static const char *const places[] = { "/", "/../lib/sumi/", "/../" };
+  double t0 = now_seconds();
+  for (size_t i = 0; i < sizeof places / sizeof places[0]; i++) {
+    snprintf(path, sizeof path, "%s%s" BRIDGE_NAME, dir, places[i]);
+    if (access(path, F_OK) != 0) continue;
+    if (bridge_open(path)) bridge_seconds = now_seconds() - t0;
+    return;
+  }
+  set_err(bridge_error, sizeof bridge_error,
+          "cannot find the image library " BRIDGE_NAME " beside %s or in its ../lib/sumi/ "
+          "(build it with make)", dir);
+}
+
+int image_bridge_load(char *err, size_t errlen) {
+  pthread_once(&bridge_once, bridge_init);
+  if (!bridge) set_err(err, errlen, "%s", bridge_error);
+  return bridge != NULL;
+}
+
+double image_bridge_load_seconds(void) {
+  return bridge_seconds;
+}
+
+/* ---- writing ------------------------------------------------------------ */
+
+/* Formats by extension. */
+typedef enum { FMT_NONE, FMT_PNG, FMT_TIFF, FMT_JPEG, FMT_EXR } ImageFormat;
+
+/* The extension of path's last component (after its last dot), or NULL. */
+static const char *path_extension(const char *path) {
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  const char *dot = strrchr(base, '.');
+  return dot && dot != base ? dot + 1 : NULL;
+}
+
+static ImageFormat format_of(const char *path) {
+  const char *ext = path_extension(path);
+  if (!ext) return FMT_NONE;
+  if (!strcasecmp(ext, "png")) return FMT_PNG;
+  if (!strcasecmp(ext, "tif") || !strcasecmp(ext, "tiff")) return FMT_TIFF;
+  if (!strcasecmp(ext, "jpg") || !strcasecmp(ext, "jpeg")) return FMT_JPEG;
+  if (!strcasecmp(ext, "exr")) return FMT_EXR;
+  return FMT_NONE;
+}
+
+/* Build "dir/stem.tmp-PID-SEQ.ext" for path into tmp and create it
+** exclusively (so it is ours). Returns 1, or 0 with errno set. */
+static int make_temp(const char *path, char *tmp, size_t size) {
+  static unsigned seq;  /* distinguishes concurrent writes to one path */
+  const char *ext = path_extension(path);
+  size_t stem = ext ? (size_t)(ext - 1 - path) : strlen(path);
+  for (int tries = 0; tries < TMP_NAME_TRIES; tries++) {
+    unsigned n = __atomic_fetch_add(&seq, 1, __ATOMIC_RELAXED);
+    int len = snprintf(tmp, size, "%.*s.tmp-%ld-%u%s%s", (int)stem, path, (long)getpid(), n,
+                       ext ? "." : "", ext ? ext : "");
+    if (len < 0 || (size_t)len >= size) {
+      errno = ENAMETOOLONG;
+      return 0;
+    }
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      close(fd);
+      return 1;
+    }
+    if (errno != EEXIST) return 0;
+  }
+  return 0;
+}
+
+/* Write px through the bridge to a temporary file, then rename it to path.
+** On any failure the temporary file is removed. */
+static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
+                        char *err, size_t errlen) {
+  char why[768];
+  if (!image_bridge_load(why, sizeof why)) {
+    set_err(err, errlen, "cannot write '%s': %s", path, why);
+    return 0;
+  }
+  char tmp[PATH_MAX + 64];
+  if (!make_temp(path, tmp, sizeof tmp)) {
+    set_err(err, errlen, "cannot write '%s': %s", path, strerror(errno));
+    return 0;
+  }
+  if (!bridge->write(tmp, px, w, why, sizeof why)) {
+    unlink(tmp);
+    set_err(err, errlen, "cannot write '%s': %s", path, why);
+    return 0;
+  }
+  if (rename(tmp, path) != 0) {
+    int e = errno;
+    unlink(tmp);
+    set_err(err, errlen, "cannot write '%s': %s", path, strerror(e));
+    return 0;
+  }
+  return 1;
+}
+
+/* Colour channels of img in file order as 8- or 16-bit codes, dropping
+** alpha (always the last channel) when keep_alpha is 0, for JPEG. Returns
+** malloc'ed data, *nch set. */
+static void *encode_integer(const Image *img, int bits, int keep_alpha, int *nch) {
+  pthread_once(&srgb_once, srgb_init);
+  int ac = image_alpha_channel(img), in_ch = img->channels;
+  int out_ch = (ac >= 0 && !keep_alpha) ? in_ch - 1 : in_ch;
+  size_t npix = (size_t)img->width * (size_t)img->height;
+  void *out = xmalloc(npix * (size_t)in_ch * (bits == 16 ? 2 : 1));
+  if (bits == 16) {
+    uint16_t *o16 = out;
+    for (size_t i = 0; i < npix * (size_t)in_ch; i++)
+      o16[i] = (int)(i % (size_t)in_ch) == ac ? alpha16(img->data[i]) : encode16(img->data[i]);
+  } else {
+    encode_pixels8(img->data, out, npix, in_ch, ac);
+  }
+  if (out_ch < in_ch) {                 /* squeeze out alpha, in place, 8-bit only */
+    uint8_t *o8 = out;
+    for (size_t p = 0; p < npix; p++)
+      memmove(o8 + p * (size_t)out_ch, o8 + p * (size_t)in_ch, (size_t)out_ch);
+  }
+  *nch = out_ch;
+  return out;
+}
+
+/* A copy of img with colour multiplied by alpha (EXR's convention). */
+static float *associate_alpha(const Image *img) {
+  int nc = img->channels, ac = image_alpha_channel(img);
+  size_t npix = (size_t)img->width * (size_t)img->height;
+  float *out = xmalloc(image_values(img) * sizeof(float));
+  memcpy(out, img->data, image_values(img) * sizeof(float));
+  for (size_t p = 0; p < npix; p++) {
+    float *px = out + p * (size_t)nc;
+    for (int c = 0; c < nc; c++)
+      if (c != ac) px[c] *= px[ac];
+  }
+  return out;
+}
+
+static int write_exr(const char *path, const Image *img, const ImageWriteOptions *opt,
+                     char *err, size_t errlen) {
+  int ac = image_alpha_channel(img);
+  float *assoc = ac >= 0 ? associate_alpha(img) : NULL;
+  SumiOiioPixels px = { img->width, img->height, img->channels, SUMI_OIIO_FLOAT, ac,
+                        assoc ? assoc : img->data, "" };
+  SumiOiioWrite w = { opt->exr_half ? SUMI_OIIO_HALF : SUMI_OIIO_FLOAT, NULL, "Linear", 0 };
+  int ok = write_atomic(path, &px, &w, err, errlen);
+  free(assoc);
+  return ok;
+}
+
+static int write_encoded(const char *path, ImageFormat fmt, const Image *img,
+                         const ImageWriteOptions *opt, char *err, size_t errlen) {
+  int bits = fmt == FMT_JPEG ? 8 : opt->bits ? opt->bits : 8;
+  if (bits != 8 && bits != 16) {
+    set_err(err, errlen, "cannot write '%s': %d bits per channel (use 8 or 16)", path, bits);
+    return 0;
+  }
+  int keep_alpha = fmt != FMT_JPEG, nch;
+  void *codes = encode_integer(img, bits, keep_alpha, &nch);
+  int ac = keep_alpha ? image_alpha_channel(img) : -1;
+  SumiOiioPixels px = { img->width, img->height, nch, bits == 16 ? SUMI_OIIO_UINT16 : SUMI_OIIO_UINT8,
+                        ac, codes, "" };
+  SumiOiioWrite w = { 0, NULL, "sRGB", opt->jpeg_quality };
+  int ok = write_atomic(path, &px, &w, err, errlen);
+  free(codes);
+  return ok;
+}
+
+int image_write_opts(const char *path, const Image *img, const ImageWriteOptions *opt,
+                     char *err, size_t errlen) {
+  static const ImageWriteOptions defaults;
+  if (!opt) opt = &defaults;
+  ImageFormat fmt = format_of(path);
+  if (fmt == FMT_NONE) {
+    const char *ext = path_extension(path);
+    set_err(err, errlen, "cannot write '%s': %s '%s%s' (use .png, .tif, .jpg or .exr)", path,
+            ext ? "unknown image format" : "no image format extension", ext ? "." : "",
+            ext ? ext : "");
+    return 0;
+  }
+  if (!img || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
+      (fmt != FMT_EXR && img->channels > 4) || img->channels > IMAGE_MAX_CHANNELS) {
+    set_err(err, errlen, "cannot write '%s': %d channels do not make a colour image", path,
+            img ? img->channels : 0);
+    return 0;
+  }
+  if (fmt == FMT_EXR) return write_exr(path, img, opt, err, errlen);
+  return write_encoded(path, fmt, img, opt, err, errlen);
+}
+
+int image_write(const char *path, const Image *img, char *err, size_t errlen) {
+  return image_write_opts(path, img, NULL, err, errlen);
+}
+
+/* 0 with a message unless names holds nch distinct, non-empty names. */
+static int check_channel_names(const char *path, int nch, const char **names, char *err,
+                               size_t errlen) {
+  for (int c = 0; c < nch; c++) {
+    if (!names || !names[c] || !names[c][0]) {
+      set_err(err, errlen, "cannot write '%s': channel %d has no name", path, c);
+      return 0;
+    }
+    for (int d = 0; d < c; d++)
+      if (!strcmp(names[c], names[d])) {
+        set_err(err, errlen, "cannot write '%s': channel name '%s' appears twice", path,
+                names[c]);
+        return 0;
+      }
+  }
+  return 1;
+}
+
+int image_write_aov_exr(const char *path, int w, int h, int nch, const char **channel_names,
+                        const float *data, char *err, size_t errlen) {
+  if (format_of(path) != FMT_EXR) {
+    set_err(err, errlen, "cannot write '%s': AOVs are written as .exr", path);
+    return 0;
+  }
+  if (w <= 0 || h <= 0 || nch < 1 || nch > IMAGE_MAX_CHANNELS) {
+    set_err(err, errlen, "cannot write '%s': bad AOV size %dx%d with %d channels (at most %d)",
+            path, w, h, nch, IMAGE_MAX_CHANNELS);
+    return 0;
+  }
+  if (!check_channel_names(path, nch, channel_names, err, errlen)) return 0;
+  int ac = -1;
+  for (int c = 0; c < nch; c++)
+    if (!strcmp(channel_names[c], "A")) ac = c;
+  SumiOiioPixels px = { w, h, nch, SUMI_OIIO_FLOAT, ac, (void *)data, "" };
+  SumiOiioWrite wr = { SUMI_OIIO_FLOAT, (const char *const *)channel_names, NULL, 0 };
+  return write_atomic(path, &px, &wr, err, errlen);
+}
+
+int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, char *err,
+                         size_t errlen) {
+  if (format_of(path) != FMT_TIFF) {
+    set_err(err, errlen, "cannot write '%s': id images are written as .tif", path);
+    return 0;
+  }
+  if (w <= 0 || h <= 0) {
+    set_err(err, errlen, "cannot write '%s': bad size %dx%d", path, w, h);
+    return 0;
+  }
+  static const char *const names[] = { "id" };
+  SumiOiioPixels px = { w, h, 1, SUMI_OIIO_INT32, -1, (void *)ids, "" };
+  SumiOiioWrite wr = { SUMI_OIIO_INT32, names, NULL, 0 };
+  return write_atomic(path, &px, &wr, err, errlen);
+}
+
+/* ---- reading ------------------------------------------------------------ */
+
+/* Read path through the bridge as want (0: the file's own class). Checks
+** that path names a regular file first, for a clear message. */
+static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err,
+                       size_t errlen) {
+  struct stat st;
+  if (stat(path, &st) != 0) {
+    set_err(err, errlen, "cannot read '%s': %s", path, strerror(errno));
+    return 0;
+  }
+  if (S_ISDIR(st.st_mode)) {
+    set_err(err, errlen, "cannot read '%s': is a directory", path);
+    return 0;
+  }
+  char why[768];
+  if (!image_bridge_load(why, sizeof why)) {
+    set_err(err, errlen, "cannot read '%s': %s", path, why);
+    return 0;
+  }
+  int r = bridge->read(path, want, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS, px, why,
+                       sizeof why);
+  if (r == SUMI_OIIO_OK) return 1;
+  if (r == SUMI_OIIO_TOO_LARGE)
+    set_err(err, errlen,
+            "cannot read '%s': image too large: %dx%d with %d channels (limits: %lld pixels, "
+            "IMAGE_READ_MAX_PIXELS; %d channels, IMAGE_MAX_CHANNELS)", path, px->width,
+            px->height, px->channels, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS);
+  else
+    set_err(err, errlen, "cannot read '%s': %s (%s)", path,
+            r == SUMI_OIIO_NOT_IMAGE ? "not an image sumi can read" : "corrupt or truncated image",
+            why);
+  return 0;
+}
+
+/* Fill img from integer codes: sRGB-decoded colour, linear alpha. */
+static void decode_integer(Image *img, const SumiOiioPixels *px) {
+  pthread_once(&srgb_once, srgb_init);
+  int nc = img->channels, ac = px->alpha_channel;
+  size_t npix = (size_t)img->width * (size_t)img->height;
+  const uint8_t *in8 = px->data;
+  const uint16_t *in16 = px->data;
+  for (size_t p = 0; p < npix; p++) {
+    float *dst = img->data + p * (size_t)nc;
+    for (int c = 0; c < nc; c++) {
+      size_t i = p * (size_t)nc + (size_t)c;
+      if (px->type == SUMI_OIIO_UINT8)
+        dst[c] = c == ac ? in8[i] / 255.0f : srgb_decode[in8[i]];
+      else
+        dst[c] = c == ac ? in16[i] / 65535.0f : (float)srgb_to_linear_d(in16[i] / 65535.0);
+    }
+  }
+}
+
+/* Divide colour by alpha where alpha is not 0 (EXR stores it multiplied). */
+static void dissociate_alpha(Image *img) {
+  int nc = img->channels, ac = image_alpha_channel(img);
+  size_t npix = (size_t)img->width * (size_t)img->height;
+  for (size_t p = 0; p < npix; p++) {
+    float *q = img->data + p * (size_t)nc;
+    if (q[ac] == 0.0f) continue;
+    for (int c = 0; c < nc; c++)
+      if (c != ac) q[c] /= q[ac];
+  }
+}
+
+int image_read(const char *path, Image **out, char *err, size_t errlen) {
+  *out = NULL;
+  SumiOiioPixels px;
+  if (!read_pixels(path, 0, &px, err, errlen)) return 0;
+  Image *img = image_create(px.width, px.height, px.channels);
+  size_t n = image_values(img);
+  if (px.type == SUMI_OIIO_UINT8 || px.type == SUMI_OIIO_UINT16) {
+    decode_integer(img, &px);
+  } else if (px.type == SUMI_OIIO_INT32) {
+    const int32_t *ids = px.data;
+    for (size_t i = 0; i < n; i++) img->data[i] = (float)ids[i];
+  } else {
+    memcpy(img->data, px.data, n * sizeof(float));
+    if (!strcmp(px.format, "openexr") && image_alpha_channel(img) >= 0 &&
+        px.alpha_channel == image_alpha_channel(img))
+      dissociate_alpha(img);
+  }
+  free(px.data);
+  *out = img;
+  return 1;
+}
+
+int image_read_ids(const char *path, int *w, int *h, int32_t **ids, char *err, size_t errlen) {
+  *ids = NULL;
+  SumiOiioPixels px;
+  if (!read_pixels(path, SUMI_OIIO_INT32, &px, err, errlen)) return 0;
+  if (px.channels != 1) {
+    set_err(err, errlen, "cannot read '%s': an id image has 1 channel, this has %d", path,
+            px.channels);
+    free(px.data);
+    return 0;
+  }
+  *w = px.width;
+  *h = px.height;
+  *ids = px.data;
+  return 1;
+}

@@ -1,0 +1,271 @@
+/*
+** Mesh import through Assimp's C API (see mesh_import.h): read, flatten
+** the node hierarchy, drop points and lines, weld equal positions, and
+** copy the polygons into the scene arena.
+*/
+#include "mesh_import.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+/* Pre-transform: every mesh in world placement, one flat list.
+** Join identical vertices inside each mesh; check the data; sort points
+** and lines apart so they can be dropped. No triangulation. */
+static const unsigned IMPORT_FLAGS = aiProcess_JoinIdenticalVertices |
+                                     aiProcess_PreTransformVertices |
+                                     aiProcess_ValidateDataStructure | aiProcess_SortByPType;
+
+/* ---- welding ------------------------------------------------------------ */
+
+/* A vertex position with its input index: sorted, equal positions meet. */
+typedef struct WeldKey { Vec3 p; int i; } WeldKey;
+
+static int weld_cmp(const void *a, const void *b) {
+  const WeldKey *p = a, *q = b;
+  if (p->p.x != q->p.x) return p->p.x < q->p.x ? -1 : 1;
+  if (p->p.y != q->p.y) return p->p.y < q->p.y ? -1 : 1;
+  if (p->p.z != q->p.z) return p->p.z < q->p.z ? -1 : 1;
+  return (p->i > q->i) - (p->i < q->i);
+}
+
+/* remap[i] = the new index of pos[i]: equal positions share one, numbered
+** in order of first appearance; returns the count of distinct positions.
+** (Ties sort by index, so the result is deterministic.) */
+static int weld(const Vec3 *pos, int n, int *remap) {
+  WeldKey *key = xmalloc(sizeof *key * (size_t)(n > 0 ? n : 1));
+  int *first = xmalloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  for (int i = 0; i < n; i++) key[i] = (WeldKey){pos[i], i};
+  qsort(key, (size_t)n, sizeof *key, weld_cmp);
+  for (int k = 0; k < n; k++) {
+    int same = k > 0 && key[k - 1].p.x == key[k].p.x && key[k - 1].p.y == key[k].p.y &&
+               key[k - 1].p.z == key[k].p.z;
+    first[key[k].i] = same ? first[key[k - 1].i] : key[k].i;
+  }
+  int count = 0;
+  for (int i = 0; i < n; i++) remap[i] = first[i] == i ? count++ : -1;
+  for (int i = 0; i < n; i++) if (remap[i] < 0) remap[i] = remap[first[i]];
+  free(key);
+  free(first);
+  return count;
+}
+
+/* ---- reading ------------------------------------------------------------- */
+
+static int failf(char *err, size_t errlen, const char *fmt, ...)
+  __attribute__((format(printf, 3, 4)));
+static int failf(char *err, size_t errlen, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, errlen, fmt, ap);
+  va_end(ap);
+  return 0;
+}
+
+/* Count the vertices and polygon corners of the scene's polygon faces. */
+static int count_scene(const struct aiScene *sc, long *nverts, long *nfaces, long *nidx) {
+  *nverts = *nfaces = *nidx = 0;
+  for (unsigned m = 0; m < sc->mNumMeshes; m++) {
+    const struct aiMesh *mesh = sc->mMeshes[m];
+    *nverts += mesh->mNumVertices;
+    for (unsigned f = 0; f < mesh->mNumFaces; f++)
+      if (mesh->mFaces[f].mNumIndices >= 3) {
+        (*nfaces)++;
+        *nidx += mesh->mFaces[f].mNumIndices;
+      }
+  }
+  return 1;
+}
+
+/* Copy the polygons into out (arena), welding positions; drops repeated
+** corners and faces left with fewer than 3. */
+static void copy_scene(const struct aiScene *sc, long nverts, long nfaces, long nidx,
+                       SceneGeometry *out, Arena *arena) {
+  Vec3 *pos = xmalloc(sizeof(Vec3) * (size_t)(nverts > 0 ? nverts : 1));
+  int *remap = xmalloc(sizeof(int) * (size_t)(nverts > 0 ? nverts : 1));
+  long v = 0;
+  for (unsigned m = 0; m < sc->mNumMeshes; m++)
+    for (unsigned i = 0; i < sc->mMeshes[m]->mNumVertices; i++, v++) {
+      struct aiVector3D p = sc->mMeshes[m]->mVertices[i];
+      pos[v] = v3(p.x, p.y, p.z);
+    }
+  int nunique = weld(pos, (int)nverts, remap);
+  out->verts = arena_alloc(arena, sizeof(Vec3) * (size_t)(nunique > 0 ? nunique : 1));
+  for (long i = 0; i < nverts; i++) out->verts[remap[i]] = pos[i];
+  out->nverts = nunique;
+  out->face_start = arena_alloc(arena, sizeof(int) * (size_t)(nfaces + 1));
+  out->face_index = arena_alloc(arena, sizeof(int) * (size_t)(nidx > 0 ? nidx : 1));
+  int nf = 0, k = 0;
+  long base = 0;
+  for (unsigned m = 0; m < sc->mNumMeshes; m++) {
+    const struct aiMesh *mesh = sc->mMeshes[m];
+    for (unsigned f = 0; f < mesh->mNumFaces; f++) {
+      const struct aiFace *face = &mesh->mFaces[f];
+      if (face->mNumIndices < 3) continue;
+      int start = k;
+      for (unsigned c = 0; c < face->mNumIndices; c++) {
+        int w = remap[base + face->mIndices[c]];
+        if (k > start && out->face_index[k - 1] == w) continue;  /* repeated corner */
+        out->face_index[k++] = w;
+      }
+      if (k - start > 1 && out->face_index[k - 1] == out->face_index[start]) k--;
+      if (k - start < 3) { k = start; continue; }
+      out->face_start[nf++] = start;
+    }
+    base += mesh->mNumVertices;
+  }
+  out->face_start[nf] = k;
+  out->nfaces = nf;
+  free(pos);
+  free(remap);
+}
+
+/* ---- OBJ vertex order ---------------------------------------------------- */
+
+/* A file vertex: its position and its `v` line number (0-based). */
+typedef struct FileVert { Vec3 p; int i; } FileVert;
+
+static int filevert_cmp(const void *a, const void *b) {
+  const FileVert *p = a, *q = b;
+  if (p->p.x != q->p.x) return p->p.x < q->p.x ? -1 : 1;
+  return (p->i > q->i) - (p->i < q->i);
+}
+
+static int has_suffix(const char *s, const char *suffix) {
+  size_t n = strlen(s), k = strlen(suffix);
+  return n >= k && strcasecmp(s + n - k, suffix) == 0;
+}
+
+/* The `v` lines of an OBJ file; NULL when it cannot be read again. */
+static FileVert *obj_vertices(const char *path, int *n) {
+  FILE *f = fopen(path, "r");
+  if (!f) return NULL;
+  FileVert *v = NULL;
+  int cap = 0;
+  char line[512];
+  *n = 0;
+  while (fgets(line, sizeof line, f)) {
+    double x, y, z;
+    if (line[0] == 'v' && (line[1] == ' ' || line[1] == '\t') &&
+        sscanf(line + 2, "%lf %lf %lf", &x, &y, &z) == 3) {
+      v = xgrow(v, &cap, *n + 1, sizeof *v);
+      v[*n] = (FileVert){v3(x, y, z), *n};
+      (*n)++;
+    }
+  }
+  fclose(f);
+  return v;
+}
+
+/* The first file vertex within a float's rounding of q, or -1. */
+static int find_file_vertex(const FileVert *v, int n, Vec3 q) {
+  double eps = 1e-6 * (1 + fabs(q.x) + fabs(q.y) + fabs(q.z));
+  int lo = 0, hi = n;   /* first v[k].p.x >= q.x - eps */
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (v[mid].p.x < q.x - eps) lo = mid + 1; else hi = mid;
+  }
+  int best = -1;
+  for (int k = lo; k < n && v[k].p.x <= q.x + eps; k++)
+    if (fabs(v[k].p.y - q.y) <= eps && fabs(v[k].p.z - q.z) <= eps && (best < 0 || v[k].i < best))
+      best = v[k].i;
+  return best;
+}
+
+/* Assimp numbers an OBJ's vertices in the order its faces first use them;
+** put them back in the file's `v` order (vertices no face uses left out),
+** so indices read off the file (for creases and corners) hold. Leaves g
+** as it is when the positions cannot be matched one to one. */
+static void obj_file_order(const char *path, SceneGeometry *g) {
+  int n;
+  FileVert *fv = obj_vertices(path, &n);
+  if (!fv) return;
+  qsort(fv, (size_t)n, sizeof *fv, filevert_cmp);
+  int *line = xmalloc(sizeof(int) * (size_t)(g->nverts + 1));
+  int *seen = xcalloc((size_t)n + 1, sizeof(int));
+  int ok = 1;
+  for (int i = 0; i < g->nverts && ok; i++) {
+    line[i] = find_file_vertex(fv, n, g->verts[i]);
+    ok = line[i] >= 0 && !seen[line[i]]++;
+  }
+  if (ok) {
+    int *rank = xcalloc((size_t)n + 1, sizeof(int));   /* file line -> new index */
+    for (int i = 0; i < g->nverts; i++) rank[line[i]] = 1;
+    for (int k = 0, r = 0; k < n; k++) rank[k] = rank[k] ? r++ : -1;
+    Vec3 *pos = xmalloc(sizeof(Vec3) * (size_t)(g->nverts + 1));
+    for (int i = 0; i < g->nverts; i++) pos[rank[line[i]]] = g->verts[i];
+    memcpy(g->verts, pos, sizeof(Vec3) * (size_t)g->nverts);
+    for (int k = 0; k < g->face_start[g->nfaces]; k++)
+      g->face_index[k] = rank[line[g->face_index[k]]];
+    free(pos);
+    free(rank);
+  }
+  free(line);
+  free(seen);
+  free(fv);
+}
+
+static int check_file(const char *path, char *err, size_t errlen) {
+  struct stat st;
+  if (stat(path, &st) != 0) return failf(err, errlen, "%s", strerror(errno));
+  if (!S_ISREG(st.st_mode)) return failf(err, errlen, "not a regular file");
+  FILE *f = fopen(path, "rb");
+  if (!f) return failf(err, errlen, "%s", strerror(errno));
+  fclose(f);
+  if (st.st_size == 0) return failf(err, errlen, "the file is empty");
+  return 1;
+}
+
+/* Assimp's messages can span lines; keep the first line. */
+static void first_line(char *s) {
+  s[strcspn(s, "\r\n")] = 0;
+}
+
+static int import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                       size_t errlen) {
+  memset(out, 0, sizeof *out);
+  out->kind = GEOM_MESH;
+  if (!check_file(path, err, errlen)) return 0;
+  const struct aiScene *sc = aiImportFile(path, IMPORT_FLAGS);
+  if (!sc) {
+    const char *why = aiGetErrorString();
+    int ok = strstr(why, "No suitable reader")
+                 ? failf(err, errlen, "unreadable: not a mesh format Assimp knows")
+                 : failf(err, errlen, "unreadable: %s", why);
+    first_line(err);
+    return ok;
+  }
+  int ok = 1;
+  long nverts, nfaces, nidx;
+  if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+    ok = failf(err, errlen, "the file holds no complete scene");
+  else if (count_scene(sc, &nverts, &nfaces, &nidx), nfaces == 0)
+    ok = failf(err, errlen, "the file holds no polygons (only points, lines or nothing)");
+  else if (nverts > MESH_IMPORT_MAX_VERTS)
+    ok = failf(err, errlen, "%ld vertices; the limit is %d (MESH_IMPORT_MAX_VERTS)", nverts,
+               MESH_IMPORT_MAX_VERTS);
+  else if (nfaces > MESH_IMPORT_MAX_FACES || nidx > 4L * MESH_IMPORT_MAX_FACES)
+    ok = failf(err, errlen, "%ld faces; the limit is %d (MESH_IMPORT_MAX_FACES)", nfaces,
+               MESH_IMPORT_MAX_FACES);
+  else
+    copy_scene(sc, nverts, nfaces, nidx, out, arena);
+  if (ok && has_suffix(path, ".obj")) obj_file_order(path, out);
+  aiReleaseImport(sc);
+  if (ok && out->nfaces == 0)
+    ok = failf(err, errlen, "the file holds no polygon with 3 distinct corners");
+  return ok;
+}
+
+int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                     size_t errlen) {
+  return import_file(path, out, arena, err, errlen) ? 0 : 1;
+}

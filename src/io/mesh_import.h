@@ -1,0 +1,36 @@
+/*
+** Mesh import through Assimp's C API: OBJ, PLY, STL, glTF and the other
+** formats the installed library reads, into a GEOM_MESH SceneGeometry
+** (polygons kept as they are, not triangulated). Every mesh of the file is
+** placed by its node transforms and merged into one; vertices at exactly
+** the same position are shared, so the result is connected for
+** subdivision and edge detection. Coordinates are taken as the file
+** gives them (no axis conversion: a y-up model needs a rotate).
+**
+** Vertex numbers (for creases and corners): an OBJ file's vertices keep
+** the order of its `v` lines (those no face uses are left out); other
+** formats get Assimp's order, which is the order the faces first use them.
+*/
+#ifndef io_mesh_import_h
+#define io_mesh_import_h
+
+#include <stddef.h>
+
+#include "../base/mem.h"
+#include "../scene/scene.h"
+
+/* Most vertices and faces one imported file may have (16 M each): far
+** beyond what one frame can show, and still well inside int indices. */
+#define MESH_IMPORT_MAX_VERTS (1 << 24)
+#define MESH_IMPORT_MAX_FACES (1 << 24)
+
+/* Read the mesh in the file at path into *out (kind GEOM_MESH; verts,
+** face_start and face_index allocated in arena; every other field zero).
+** Returns 0 on success; nonzero with a one-line reason in err (errlen
+** bytes; it does not repeat the path, the caller names the file) for a
+** missing, unreadable or malformed file, or one without polygons.
+** (0 = success, as the evaluator's caller expects.) */
+int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                     size_t errlen);
+
+#endif

@@ -1,0 +1,1029 @@
+/*
+** Block schemas and the filling of the Scene from checked blocks.
+**
+** Each block kind has a table of rows (name, type, range, default, field,
+** flags). check_block() runs every property of a finished block against its
+** table: unknown names get the closest known one as a suggestion, a value of
+** the wrong type or out of range names what was expected and what was found,
+** a property given twice (unless repeatable) points at both, and a missing
+** required property names the block. Written bottom-up: value converters,
+** custom converters, the tables, then the checker and the emitters.
+*/
+#include "schema.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum {
+  T_NUM, T_INT, T_BOOL, T_STRING, T_COLOR, T_VEC3, T_SYMBOL, T_TRANSFORM,
+  T_GEOMETRY, T_STYLE, T_COLORS, T_PARAM, T_CUSTOM
+} PropType;
+
+enum {
+  R_REPEAT = 1,    /* may be given more than once */
+  R_REQUIRED = 2,  /* the block needs it */
+  R_MANY = 4,      /* takes several values (a custom converter reads them) */
+  R_SYM = 8,       /* bare words in it are symbols, not names to look up */
+  R_FIRST = 16     /* converted before the others (it replaces the whole target) */
+};
+
+/* The block being checked: where params go, and its name for messages. */
+typedef struct Ctx {
+  Eval *ev;
+  SceneStyle *style;     /* for T_PARAM rows */
+  const char *pass;      /* "shade", "noise", "pattern" */
+  char what[64];         /* "lines", "shade toon" */
+  int folded_n;          /* points in `folded`, checked against the paper */
+} Ctx;
+
+typedef struct Row Row;
+typedef int (*Custom)(Ctx *c, const Prop *p, const Row *r, void *target);
+
+struct Row {
+  const char *name;
+  PropType type;
+  double lo, hi;         /* allowed range of numbers */
+  double def;            /* default of numbers (NAN: none) */
+  size_t off;            /* field in the target struct */
+  unsigned flags;
+  const char *symbols;   /* T_SYMBOL: "a|b|c", stored as the index (an int field) */
+  Custom custom;
+};
+
+#define NOFIELD ((size_t)-1)
+#define NUM(n, S, f, lo, hi, def) {n, T_NUM, lo, hi, def, offsetof(S, f), 0, NULL, NULL}
+#define INT(n, S, f, lo, hi, def) {n, T_INT, lo, hi, def, offsetof(S, f), 0, NULL, NULL}
+#define TYPED(n, t, S, f) {n, t, 0, 0, NAN, offsetof(S, f), 0, NULL, NULL}
+#define SYM(n, S, f, syms) {n, T_SYMBOL, 0, 0, NAN, offsetof(S, f), R_SYM, syms, NULL}
+#define CUSTOM(n, fn, flags) {n, T_CUSTOM, 0, 0, NAN, NOFIELD, flags, NULL, fn}
+#define PARAM(n, flags) {n, T_PARAM, -INFINITY, INFINITY, NAN, NOFIELD, flags, NULL, NULL}
+
+/* ---- messages ---------------------------------------------------------- */
+
+/* The property's name alone (for the caret under it). */
+static SrcRange name_range(const Prop *p) {
+  SrcRange r = p->loc;
+  r.end_line = r.line;
+  r.end_col = r.col + (int)strlen(p->name);
+  return r;
+}
+
+static const char *a_type(const Value *v) {
+  static char buf[4][48];
+  static int k;
+  const char *t = val_type_name(v);
+  char *b = buf[k++ & 3];
+  snprintf(b, sizeof buf[0], "%s %s", strchr("aeiou", t[0]) ? "an" : "a", t);
+  return b;
+}
+
+static int expect(Ctx *c, const Prop *p, int i, const char *want) {
+  const Value *v = i < p->n ? &p->v[i] : NULL;
+  SrcRange at = i < p->n ? p->vloc[i] : name_range(p);
+  if (!v) ev_error(c->ev, at, "`%s` in `%s` expects %s; found nothing", p->name, c->what, want);
+  else ev_error(c->ev, at, "`%s` in `%s` expects %s; found %s", p->name, c->what, want, a_type(v));
+  return -1;
+}
+
+static char *scene_str(Ctx *c, const char *s) {
+  return arena_strndup(&c->ev->scene->arena, s, strlen(s));
+}
+
+/* Grow a scene array held in the scene arena (doubling at powers of two). */
+static void *grow(Ctx *c, void *items, int n, size_t elem) {
+  if (n & (n - 1) && n) return items;
+  void *bigger = arena_alloc(&c->ev->scene->arena, (size_t)(n ? n * 2 : 4) * elem);
+  if (n) memcpy(bigger, items, (size_t)n * elem);
+  return bigger;
+}
+
+/* ---- value converters --------------------------------------------------- */
+
+static int to_number(Ctx *c, const Prop *p, int i, const Row *r, double *out) {
+  if (p->v[i].kind != V_NUM) return expect(c, p, i, r->type == T_INT ? "a whole number" : "a number");
+  double x = p->v[i].u.n;
+  if (r->type == T_INT && x != floor(x)) {
+    char got[32];
+    val_format_number(got, sizeof got, x);
+    ev_error(c->ev, p->vloc[i], "`%s` in `%s` must be a whole number; found %s", p->name, c->what, got);
+    return -1;
+  }
+  if (x < r->lo || x > r->hi || isnan(x)) {
+    char lo[32], hi[32], got[32];
+    val_format_number(lo, sizeof lo, r->lo);
+    val_format_number(hi, sizeof hi, r->hi);
+    val_format_number(got, sizeof got, x);
+    if (isinf(r->hi)) ev_error(c->ev, p->vloc[i], "`%s` in `%s` must be at least %s; found %s", p->name, c->what, lo, got);
+    else ev_error(c->ev, p->vloc[i], "`%s` in `%s` must be from %s to %s; found %s", p->name, c->what, lo, hi, got);
+    return -1;
+  }
+  *out = x;
+  return 0;
+}
+
+static int to_color(Ctx *c, const Prop *p, int i, Color *out) {
+  const Value *v = &p->v[i];
+  if (v->kind == V_COLOR) { *out = *v->u.c; return 0; }
+  if (v->kind == V_LIST && (v->u.l->n == 3 || v->u.l->n == 4)) {   /* linear [r, g, b(, a)] */
+    float ch[4] = {0, 0, 0, 1};
+    for (int k = 0; k < v->u.l->n; k++) {
+      if (v->u.l->v[k].kind != V_NUM) return expect(c, p, i, "a colour (#rrggbb or [r, g, b])");
+      ch[k] = (float)v->u.l->v[k].u.n;
+    }
+    *out = (Color){ch[0], ch[1], ch[2], ch[3]};
+    return 0;
+  }
+  return expect(c, p, i, "a colour (#rrggbb or [r, g, b])");
+}
+
+static int to_vec3(Ctx *c, const Prop *p, int i, Vec3 *out) {
+  const Value *v = &p->v[i];
+  if (v->kind == V_LIST && (v->u.l->n == 2 || v->u.l->n == 3)) {
+    double x[3] = {0, 0, 0};
+    int k;
+    for (k = 0; k < v->u.l->n && v->u.l->v[k].kind == V_NUM; k++) x[k] = v->u.l->v[k].u.n;
+    if (k == v->u.l->n) { *out = v3(x[0], x[1], x[2]); return 0; }
+  }
+  return expect(c, p, i, "a point [x, y, z]");
+}
+
+/* A symbol (or a string) naming one of "a|b|c": its index. */
+static int to_symbol(Ctx *c, const Prop *p, int i, const char *choices, int *out) {
+  const Value *v = &p->v[i];
+  const char *name = v->kind == V_SYMBOL ? v->u.sym->name : v->kind == V_STR ? v->u.s->s : NULL;
+  const char *opts[16];
+  int n = 0;
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", choices);
+  for (char *tok = strtok(buf, "|"); tok && n < 16; tok = strtok(NULL, "|")) opts[n++] = tok;
+  for (int k = 0; name && k < n; k++)
+    if (strcmp(name, opts[k]) == 0) { *out = k; return 0; }
+  char list[300] = "";
+  for (int k = 0; k < n; k++) {
+    strcat(list, k == 0 ? "`" : k == n - 1 ? " or `" : ", `");
+    strcat(list, opts[k]);
+    strcat(list, "`");
+  }
+  if (!name) return expect(c, p, i, list);
+  const char *s = suggest_name(name, opts, n);
+  if (s) ev_error(c->ev, p->vloc[i], "`%s` in `%s` expects %s; found `%s`; did you mean `%s`?", p->name, c->what, list, name, s);
+  else ev_error(c->ev, p->vloc[i], "`%s` in `%s` expects %s; found `%s`", p->name, c->what, list, name);
+  return -1;
+}
+
+static int to_colors(Ctx *c, const Prop *p, Color **out, int *n) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n == 0) return expect(c, p, 0, "a list of colours");
+  *n = v->u.l->n;
+  *out = arena_alloc(&c->ev->scene->arena, (size_t)*n * sizeof **out);
+  for (int k = 0; k < *n; k++) {
+    if (v->u.l->v[k].kind != V_COLOR) return expect(c, p, 0, "a list of colours");
+    (*out)[k] = *v->u.l->v[k].u.c;
+  }
+  return 0;
+}
+
+/* A T_PARAM property: numbers, a vector, a colour, a string or a symbol. */
+static int to_param(Ctx *c, const Prop *p, const Row *r) {
+  SceneStyle *st = c->style;
+  st->params = grow(c, st->params, st->nparams, sizeof *st->params);
+  SceneParam *sp = &st->params[st->nparams];
+  memset(sp, 0, sizeof *sp);
+  sp->pass = c->pass;
+  sp->name = r->name;
+  sp->loc = p->loc;
+  const Value *v = &p->v[0];
+  List *nums = NULL;
+  switch (v->kind) {
+  case V_NUM: case V_BOOL: sp->n = 1; sp->num = arena_alloc(&c->ev->scene->arena, sizeof(double)); sp->num[0] = v->u.n; break;
+  case V_COLOR:
+    sp->n = 4;
+    sp->num = arena_alloc(&c->ev->scene->arena, 4 * sizeof(double));
+    sp->num[0] = v->u.c->r; sp->num[1] = v->u.c->g; sp->num[2] = v->u.c->b; sp->num[3] = v->u.c->a;
+    break;
+  case V_STR: sp->str = scene_str(c, v->u.s->s); break;
+  case V_SYMBOL: sp->str = scene_str(c, v->u.sym->name); nums = v->u.sym->args; break;
+  case V_LIST: nums = v->u.l; break;
+  default: return expect(c, p, 0, "a number, a vector, a colour, a string or a word");
+  }
+  if (nums) {
+    sp->n = nums->n;
+    sp->num = arena_alloc(&c->ev->scene->arena, (size_t)(nums->n + 1) * sizeof(double));
+    for (int k = 0; k < nums->n; k++) {
+      if (nums->v[k].kind != V_NUM) return expect(c, p, 0, "numbers");
+      sp->num[k] = nums->v[k].u.n;
+    }
+  }
+  st->nparams++;
+  return 0;
+}
+
+/* Convert a one-valued property by its row's type into target + off. */
+static int convert(Ctx *c, const Prop *p, const Row *r, void *target) {
+  char *f = (char *)target + (r->off == NOFIELD ? 0 : r->off);
+  const Value *v = &p->v[0];
+  double x;
+  int k;
+  switch (r->type) {
+  case T_NUM: if (to_number(c, p, 0, r, &x)) return -1; *(double *)f = x; return 0;
+  case T_INT: if (to_number(c, p, 0, r, &x)) return -1; *(int *)f = (int)x; return 0;
+  case T_BOOL:
+    if (v->kind != V_BOOL) return expect(c, p, 0, "`true` or `false`");
+    *(int *)f = v->u.n != 0;
+    return 0;
+  case T_STRING:
+    if (v->kind != V_STR) return expect(c, p, 0, "a string");
+    *(const char **)f = scene_str(c, v->u.s->s);
+    return 0;
+  case T_COLOR: return to_color(c, p, 0, (Color *)f);
+  case T_VEC3: return to_vec3(c, p, 0, (Vec3 *)f);
+  case T_SYMBOL: if (to_symbol(c, p, 0, r->symbols, &k)) return -1; *(int *)f = k; return 0;
+  case T_TRANSFORM:
+    if (v->kind != V_XFORM) return expect(c, p, 0, "a transform (translate, rotate, scale, matrix)");
+    *(Mat4 *)f = *v->u.m;
+    return 0;
+  case T_GEOMETRY:
+    if (v->kind != V_GEOM) return expect(c, p, 0, "a geometry (bezier, mesh, teapot(), ...)");
+    *(SceneGeometry **)f = v->u.g;
+    return 0;
+  case T_STYLE:
+    if (v->kind != V_STYLE) return expect(c, p, 0, "a style");
+    *(int *)f = v->aux;
+    return 0;
+  case T_COLORS: {
+    Color **list = (Color **)f;
+    int *n = (int *)(f + sizeof(Color *));   /* the count follows the pointer */
+    return to_colors(c, p, list, n);
+  }
+  case T_PARAM: return to_param(c, p, r);
+  case T_CUSTOM: return r->custom(c, p, r, target);
+  }
+  return -1;
+}
+
+/* ---- custom converters ------------------------------------------------ */
+
+static int cv_size(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOutput *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n != 2) return expect(c, p, 0, "[width, height]");
+  int wh[2];
+  for (int k = 0; k < 2; k++) {
+    const Value *x = &v->u.l->v[k];
+    if (x->kind != V_NUM || x->u.n != floor(x->u.n) || x->u.n < 1 || x->u.n > SCHEMA_MAX_IMAGE_SIDE) {
+      ev_error(c->ev, p->vloc[0], "`size` in `output` needs whole numbers from 1 to %d (the limit)",
+               SCHEMA_MAX_IMAGE_SIDE);
+      return -1;
+    }
+    wh[k] = (int)x->u.n;
+  }
+  o->width = wh[0];
+  o->height = wh[1];
+  return 0;
+}
+
+static int cv_ortho(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneCamera *cam = t;
+  Row num = {"ortho", T_NUM, 1e-9, INFINITY, NAN, 0, 0, NULL, NULL};
+  if (to_number(c, p, 0, &num, &cam->ortho_height)) return -1;
+  cam->kind = CAMERA_ORTHO;
+  return 0;
+}
+
+static int cv_light_position(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneLight *l = t;
+  l->kind = LIGHT_POINT;
+  return to_vec3(c, p, 0, &l->position);
+}
+
+static int cv_light_direction(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneLight *l = t;
+  if (to_vec3(c, p, 0, &l->direction)) return -1;
+  if (v3_len(l->direction) == 0) {
+    ev_error(c->ev, p->vloc[0], "`direction` in `light` cannot be [0, 0, 0]");
+    return -1;
+  }
+  l->kind = LIGHT_DIRECTIONAL;
+  return 0;
+}
+
+/* kinds silhouette, crease(40), boundary, face_edges; */
+static int cv_kinds(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneLines *l = t;
+  static const char *names[] = {"silhouette", "crease", "boundary", "face_edges"};
+  static const unsigned bits[] = {EDGE_SILHOUETTE, EDGE_CREASE, EDGE_BOUNDARY, EDGE_FACE};
+  l->kinds = 0;
+  for (int i = 0; i < p->n; i++) {
+    const Value *v = &p->v[i];
+    const char *name = v->kind == V_SYMBOL ? v->u.sym->name : v->kind == V_STR ? v->u.s->s : NULL;
+    int k = 0;
+    while (name && k < 4 && strcmp(name, names[k]) != 0) k++;
+    if (!name || k == 4) {
+      const char *s = name ? suggest_name(name, names, 4) : NULL;
+      if (s) ev_error(c->ev, p->vloc[i], "unknown edge kind `%s`; did you mean `%s`?", name, s);
+      else if (name) ev_error(c->ev, p->vloc[i], "unknown edge kind `%s` (silhouette, crease(angle), boundary, face_edges)", name);
+      else expect(c, p, i, "edge kinds (silhouette, crease(angle), boundary, face_edges)");
+      return -1;
+    }
+    List *args = v->kind == V_SYMBOL ? v->u.sym->args : NULL;
+    if (bits[k] == EDGE_CREASE && args && args->n == 1 && args->v[0].kind == V_NUM &&
+        args->v[0].u.n >= 0 && args->v[0].u.n <= 180)
+      l->crease_angle = args->v[0].u.n;
+    else if (args && (bits[k] != EDGE_CREASE || args->n > 0)) {
+      ev_error(c->ev, p->vloc[i], bits[k] == EDGE_CREASE ? "`crease(angle)` needs one angle from 0 to 180 degrees"
+                                                        : "`%s` takes no arguments", names[k]);
+      return -1;
+    }
+    l->kinds |= bits[k];
+  }
+  return 0;
+}
+
+/* tessellate N; or tessellate adaptive(pixels); */
+static int cv_tessellate(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneObject *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind == V_NUM) {
+    Row num = {"tessellate", T_INT, 1, SCHEMA_MAX_TESSELLATE, NAN, 0, 0, NULL, NULL};
+    double n;
+    if (to_number(c, p, 0, &num, &n)) return -1;
+    o->tess_kind = TESS_UNIFORM;
+    o->tess_n = (int)n;
+    return 0;
+  }
+  if (v->kind == V_SYMBOL && strcmp(v->u.sym->name, "adaptive") == 0 && v->u.sym->args &&
+      v->u.sym->args->n == 1 && v->u.sym->args->v[0].kind == V_NUM && v->u.sym->args->v[0].u.n > 0) {
+    o->tess_kind = TESS_ADAPTIVE;
+    o->tess_px = v->u.sym->args->v[0].u.n;
+    return 0;
+  }
+  return expect(c, p, 0, "a number of segments or adaptive(pixels > 0)");
+}
+
+static int cv_weights(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneShade *s = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n != 3) return expect(c, p, 0, "[wa, wb, wc]");
+  for (int k = 0; k < 3; k++) {
+    if (v->u.l->v[k].kind != V_NUM) return expect(c, p, 0, "[wa, wb, wc]");
+    s->origami_weights[k] = v->u.l->v[k].u.n;
+  }
+  return 0;
+}
+
+/* An index from 0 to n-1 in a value. */
+static int get_index(const Value *v, int n, int *out) {
+  if (v->kind != V_NUM || v->u.n != floor(v->u.n) || v->u.n < 0 || v->u.n >= n) return 0;
+  *out = (int)v->u.n;
+  return 1;
+}
+
+static int cv_vertices(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST) return expect(c, p, 0, "a list of points [x, y]");
+  o->nverts = v->u.l->n;
+  o->verts = arena_alloc(&c->ev->scene->arena, (size_t)(o->nverts + 1) * sizeof *o->verts);
+  o->vert_loc = arena_alloc(&c->ev->scene->arena, (size_t)(o->nverts + 1) * sizeof *o->vert_loc);
+  for (int k = 0; k < o->nverts; k++) {
+    const Value *q = &v->u.l->v[k];
+    if (q->kind != V_LIST || q->u.l->n < 2 || q->u.l->n > 3 || q->u.l->v[0].kind != V_NUM ||
+        q->u.l->v[1].kind != V_NUM) {
+      ev_error(c->ev, p->vloc[0], "`vertices` in `paper`: vertex %d is not a point [x, y]", k);
+      return -1;
+    }
+    o->verts[k] = (Vec2){q->u.l->v[0].u.n, q->u.l->v[1].u.n};
+    o->vert_loc[k] = p->vloc[0];
+  }
+  return 0;
+}
+
+static int cv_creases(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST) return expect(c, p, 0, "a list of creases [a, b, \"M\"]");
+  o->ncreases = v->u.l->n;
+  o->creases = arena_alloc(&c->ev->scene->arena, (size_t)(o->ncreases + 1) * sizeof *o->creases);
+  for (int k = 0; k < o->ncreases; k++) {
+    const Value *q = &v->u.l->v[k];
+    OrigamiCrease *cr = &o->creases[k];
+    const Value *as = q->kind == V_LIST && q->u.l->n == 3 ? &q->u.l->v[2] : NULL;
+    if (!as || !get_index(&q->u.l->v[0], o->nverts, &cr->a) || !get_index(&q->u.l->v[1], o->nverts, &cr->b) ||
+        as->kind != V_STR || as->u.s->len != 1 || !strchr("MVBFU", as->u.s->s[0])) {
+      ev_error(c->ev, p->vloc[0],
+               "`creases` in `paper`: crease %d must be [a, b, \"M\"|\"V\"|\"B\"|\"F\"|\"U\"] with vertices 0 to %d", k,
+               o->nverts - 1);
+      return -1;
+    }
+    cr->assignment = as->u.s->s[0];
+    cr->loc = p->vloc[0];
+  }
+  return 0;
+}
+
+static int cv_faces(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST) return expect(c, p, 0, "a list of faces (lists of vertex indices)");
+  int total = 0;
+  for (int k = 0; k < v->u.l->n; k++) {
+    const Value *f = &v->u.l->v[k];
+    if (f->kind != V_LIST || f->u.l->n < 3) {
+      ev_error(c->ev, p->vloc[0], "`faces` in `paper`: face %d needs 3 or more vertex indices", k);
+      return -1;
+    }
+    total += f->u.l->n;
+  }
+  o->nfaces = v->u.l->n;
+  o->face_start = arena_alloc(&c->ev->scene->arena, (size_t)(o->nfaces + 1) * sizeof(int));
+  o->face_index = arena_alloc(&c->ev->scene->arena, (size_t)(total + 1) * sizeof(int));
+  o->face_loc = arena_alloc(&c->ev->scene->arena, (size_t)(o->nfaces + 1) * sizeof *o->face_loc);
+  int n = 0;
+  for (int k = 0; k < o->nfaces; k++) {
+    const List *f = v->u.l->v[k].u.l;
+    o->face_start[k] = n;
+    o->face_loc[k] = p->vloc[0];
+    for (int j = 0; j < f->n; j++)
+      if (!get_index(&f->v[j], o->nverts, &o->face_index[n++])) {
+        ev_error(c->ev, p->vloc[0], "`faces` in `paper`: face %d, entry %d is not a vertex index (0 to %d)", k, j,
+                 o->nverts - 1);
+        return -1;
+      }
+  }
+  o->face_start[o->nfaces] = n;
+  return 0;
+}
+
+/* paper fold_file("x.fold"); — the crease pattern of a FOLD file. */
+static int cv_paper(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  if (p->v[0].kind != V_PAPER) return expect(c, p, 0, "a crease pattern (a `paper { ... }` block or fold_file(\"x.fold\"))");
+  const SceneOrigami *src = p->v[0].u.paper;
+  const char *name = o->name;
+  Mat4 m = o->transform;
+  int style = o->style;
+  SrcRange loc = o->loc;
+  *o = *src;
+  o->name = name;
+  o->transform = m;
+  o->style = style;
+  o->loc = loc;
+  return 0;
+}
+
+static int cv_folded(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST) return expect(c, p, 0, "a list of folded points [x, y]");
+  o->folded = arena_alloc(&c->ev->scene->arena, (size_t)(v->u.l->n + 1) * sizeof *o->folded);
+  for (int k = 0; k < v->u.l->n; k++) {
+    const Value *q = &v->u.l->v[k];
+    double x[3] = {0, 0, 0};
+    int ok = q->kind == V_LIST && q->u.l->n >= 2 && q->u.l->n <= 3;
+    for (int j = 0; ok && j < q->u.l->n; j++) {
+      ok = q->u.l->v[j].kind == V_NUM;
+      if (ok) x[j] = q->u.l->v[j].u.n;
+    }
+    if (!ok) {
+      ev_error(c->ev, p->vloc[0], "`folded` in `origami`: point %d is not [x, y]", k);
+      return -1;
+    }
+    o->folded[k] = v3(x[0], x[1], x[2]);
+  }
+  o->has_folded = 1;
+  c->folded_n = v->u.l->n;   /* checked against nverts when the block ends */
+  return 0;
+}
+
+static int cv_above(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n != 2 || v->u.l->v[0].kind != V_NUM || v->u.l->v[1].kind != V_NUM ||
+      v->u.l->v[0].u.n < 0 || v->u.l->v[1].u.n < 0 || v->u.l->v[0].u.n != floor(v->u.l->v[0].u.n) ||
+      v->u.l->v[1].u.n != floor(v->u.l->v[1].u.n))
+    return expect(c, p, 0, "[upper face, lower face]");
+  o->above = grow(c, o->above, o->nabove, sizeof *o->above);
+  OrigamiAbove *a = &o->above[o->nabove++];
+  a->upper = (int)v->u.l->v[0].u.n;
+  a->lower = (int)v->u.l->v[1].u.n;
+  a->loc = p->loc;
+  return 0;
+}
+
+static int cv_overlap(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST) return expect(c, p, 0, "a list of strings of `-`, `U` and `L`");
+  int n = v->u.l->n;
+  o->overlap = arena_alloc(&c->ev->scene->arena, (size_t)(n + 1) * sizeof *o->overlap);
+  for (int k = 0; k < n; k++) {
+    const Value *row = &v->u.l->v[k];
+    if (row->kind != V_STR || row->u.s->len != n || strspn(row->u.s->s, "-UL") != (size_t)n) {
+      ev_error(c->ev, p->vloc[0], "`overlap` row %d must be a string of %d characters `-`, `U` or `L`", k, n);
+      return -1;
+    }
+    o->overlap[k] = scene_str(c, row->u.s->s);
+  }
+  o->noverlap = n;
+  o->overlap_loc = p->loc;
+  return 0;
+}
+
+/* ---- tables ------------------------------------------------------------- */
+
+static const Row output_rows[] = {
+  CUSTOM("size", cv_size, 0),
+  TYPED("background", T_COLOR, SceneOutput, background),
+  INT("samples", SceneOutput, samples, 1, SCHEMA_MAX_SAMPLES, 1),
+  TYPED("sheet", T_STRING, SceneOutput, sheet),
+};
+
+static const Row camera_rows[] = {
+  TYPED("position", T_VEC3, SceneCamera, position),
+  TYPED("look_at", T_VEC3, SceneCamera, look_at),
+  TYPED("up", T_VEC3, SceneCamera, up),
+  NUM("fov", SceneCamera, fov, 0.01, 179, 30),
+  CUSTOM("ortho", cv_ortho, 0),
+};
+
+static const Row light_rows[] = {
+  CUSTOM("position", cv_light_position, 0),
+  CUSTOM("direction", cv_light_direction, 0),
+  TYPED("color", T_COLOR, SceneLight, color),
+  NUM("strength", SceneLight, strength, 0, INFINITY, 1),
+  SYM("falloff", SceneLight, falloff, "none|inverse_square"),
+};
+
+static const Row style_rows[] = {
+  TYPED("base", T_COLOR, SceneStyle, base),
+};
+
+/* Shared by every shading model: the lighting terms. */
+#define LIGHTING_ROWS \
+  NUM("specular", SceneShade, toon.specular, 0, INFINITY, 0), \
+  NUM("shininess", SceneShade, toon.shininess, 0, 10000, 32), \
+  NUM("ambient", SceneShade, toon.ambient, 0, 1, 0.1)
+
+static const Row shade_basic_rows[] = {LIGHTING_ROWS};
+
+static const Row shade_toon_rows[] = {
+  LIGHTING_ROWS,
+  INT("bands", SceneShade, toon.bands, 2, 256, 3),
+  NUM("threshold", SceneShade, toon.threshold, 0, 1, 0.5),
+  TYPED("ramp", T_COLORS, SceneShade, toon.ramp),
+  TYPED("specular_ramp", T_COLORS, SceneShade, toon.specular_ramp),
+  INT("specular_bands", SceneShade, toon.specular_bands, 2, 256, 2),
+  NUM("specular_threshold", SceneShade, toon.specular_threshold, 0, 1, 0.5),
+  NUM("edge", SceneShade, toon.edge, 0, 1, 0),
+  TYPED("edge_color", T_COLOR, SceneShade, toon.edge_color),
+};
+
+static const Row shade_origami_rows[] = {
+  SYM("mode", SceneShade, origami_mode, "line|illustration|shaded"),
+  TYPED("color", T_COLOR, SceneShade, origami_color),
+  CUSTOM("weights", cv_weights, 0),
+  NUM("radius", SceneShade, origami_radius, 0, 1000, 8),
+  TYPED("texture", T_STRING, SceneShade, origami_texture),
+};
+
+/* Passes whose parameters live in SceneStyle.params (scene_style_param). */
+static const Row shade_threshold_rows[] = {
+  LIGHTING_ROWS,
+  PARAM("texture", R_SYM | R_REPEAT), PARAM("strength", 0), PARAM("window", 0), PARAM("clip_limit", 0),
+  PARAM("spacing", 0), PARAM("filter_samples", 0), PARAM("noise", 0),
+};
+
+static const Row shade_bokashi_rows[] = {
+  LIGHTING_ROWS,
+  PARAM("lit", 0), PARAM("unlit", 0), PARAM("strength_mod", 0), PARAM("offset", 0), PARAM("view_mod", 0),
+  PARAM("rate", 0), PARAM("per_pixel", 0),
+};
+
+static const Row shade_ink_rows[] = {
+  LIGHTING_ROWS,
+  PARAM("levels", 0), PARAM("diffusion", R_SYM), PARAM("box_filter", 0), PARAM("color", 0),
+};
+
+static const Row texture_rows[] = {
+  PARAM("texture", R_SYM), PARAM("strength", 0), PARAM("scale", 0),
+};
+
+static const Row lines_rows[] = {
+  CUSTOM("kinds", cv_kinds, R_MANY | R_SYM),
+  SYM("stroke", SceneLines, stroke, "plain|ribbon|brush"),
+  NUM("width", SceneLines, width, 0, 1000, 1.5),
+  TYPED("color", T_COLOR, SceneLines, color),
+  NUM("opacity", SceneLines, opacity, 0, 1, 1),
+  TYPED("texture", T_STRING, SceneLines, texture),
+  NUM("ref_scale", SceneLines, ref_scale, 0.05, 8, 1),
+  INT("search_width", SceneLines, search_width, 0, 64, 2),
+  INT("max_misses", SceneLines, max_misses, 0, 64, 2),
+  INT("link_depth", SceneLines, link_depth, 0, 64, 3),
+  NUM("link_angle", SceneLines, link_angle, 0, 180, 40),
+  NUM("miter_limit", SceneLines, miter_limit, 1, 100, 4),
+  NUM("min_length", SceneLines, min_length, 0, INFINITY, 4),
+  NUM("depth_offset", SceneLines, depth_offset, -INFINITY, INFINITY, 0),
+};
+
+static const Row object_rows[] = {
+  {"geometry", T_GEOMETRY, 0, 0, NAN, offsetof(SceneObject, geometry), R_REQUIRED, NULL, NULL},
+  CUSTOM("tessellate", cv_tessellate, R_SYM),
+  TYPED("style", T_STYLE, SceneObject, style),
+  TYPED("transform", T_TRANSFORM, SceneObject, transform),
+};
+
+static const Row origami_rows[] = {
+  CUSTOM("paper", cv_paper, R_FIRST),
+  CUSTOM("folded", cv_folded, 0),
+  INT("fixed", SceneOrigami, fixed, 0, INFINITY, 0),
+  CUSTOM("above", cv_above, R_REPEAT),
+  CUSTOM("overlap", cv_overlap, 0),
+  TYPED("style", T_STYLE, SceneOrigami, style),
+  TYPED("transform", T_TRANSFORM, SceneOrigami, transform),
+};
+
+static const Row paper_rows[] = {
+  CUSTOM("vertices", cv_vertices, R_REQUIRED),
+  CUSTOM("creases", cv_creases, R_REQUIRED),
+  CUSTOM("faces", cv_faces, 0),
+};
+
+enum { W_NONE, W_NAME, W_KIND };
+
+typedef struct Schema {
+  const char *kind;
+  const char *word;          /* the sub-kind word (shade), or NULL */
+  const Row *rows;
+  int nrows;
+  const char *subs;          /* block kinds allowed inside, "a|b" */
+  int words;
+  int top;                   /* allowed at the top level */
+} Schema;
+
+#define ROWS(r) r, (int)(sizeof r / sizeof r[0])
+/* One row per block kind (and per shading model). */
+static const Schema schemas[] = {
+  {"output", NULL, ROWS(output_rows), "", W_NONE, 1},
+  {"camera", NULL, ROWS(camera_rows), "", W_NAME, 1},
+  {"light", NULL, ROWS(light_rows), "", W_NAME, 1},
+  {"style", NULL, ROWS(style_rows), "shade|lines|noise|pattern", W_NAME, 1},
+  {"shade", "flat", ROWS(shade_basic_rows), "", W_KIND, 0},
+  {"shade", "gouraud", ROWS(shade_basic_rows), "", W_KIND, 0},
+  {"shade", "phong", ROWS(shade_basic_rows), "", W_KIND, 0},
+  {"shade", "toon", ROWS(shade_toon_rows), "", W_KIND, 0},
+  {"shade", "threshold", ROWS(shade_threshold_rows), "", W_KIND, 0},
+  {"shade", "bokashi", ROWS(shade_bokashi_rows), "", W_KIND, 0},
+  {"shade", "ink", ROWS(shade_ink_rows), "", W_KIND, 0},
+  {"shade", "origami", ROWS(shade_origami_rows), "", W_KIND, 0},
+  {"lines", NULL, ROWS(lines_rows), "", W_NONE, 0},
+  {"noise", NULL, ROWS(texture_rows), "", W_NONE, 0},
+  {"pattern", NULL, ROWS(texture_rows), "", W_NONE, 0},
+  {"object", NULL, ROWS(object_rows), "", W_NAME, 1},
+  {"origami", NULL, ROWS(origami_rows), "paper", W_NAME, 1},
+  {"paper", NULL, ROWS(paper_rows), "", W_NONE, 0},
+};
+#define NSCHEMAS ((int)(sizeof schemas / sizeof schemas[0]))
+
+/* ---- lookup --------------------------------------------------------------- */
+
+static const Schema *find_schema(const char *kind, const char *word) {
+  const Schema *first = NULL;
+  for (int i = 0; i < NSCHEMAS; i++) {
+    if (strcmp(schemas[i].kind, kind) != 0) continue;
+    if (!schemas[i].word) return &schemas[i];
+    if (!first) first = &schemas[i];
+    if (word && strcmp(schemas[i].word, word) == 0) return &schemas[i];
+  }
+  return word ? NULL : first;
+}
+
+static const Row *find_row(const Schema *s, const char *name) {
+  for (int i = 0; i < s->nrows; i++)
+    if (strcmp(s->rows[i].name, name) == 0) return &s->rows[i];
+  return NULL;
+}
+
+int schema_known_kind(const char *kind) {
+  return find_schema(kind, NULL) != NULL;
+}
+
+int schema_wants_symbol(const char *kind, const char *word, const char *prop) {
+  const Schema *s = find_schema(kind, word);
+  const Row *r = s ? find_row(s, prop) : NULL;
+  return r && (r->flags & R_SYM);
+}
+
+/* ---- checking ----------------------------------------------------------- */
+
+static void apply_defaults(const Schema *s, void *target) {
+  for (int i = 0; i < s->nrows; i++) {
+    const Row *r = &s->rows[i];
+    if (isnan(r->def) || r->off == NOFIELD) continue;
+    if (r->type == T_NUM) *(double *)((char *)target + r->off) = r->def;
+    if (r->type == T_INT || r->type == T_SYMBOL) *(int *)((char *)target + r->off) = (int)r->def;
+  }
+}
+
+static void unknown_prop(Ctx *c, const Schema *s, const Prop *p) {
+  const char *names[64];
+  int n = 0;
+  for (int i = 0; i < s->nrows && n < 64; i++) names[n++] = s->rows[i].name;
+  const char *sug = suggest_name(p->name, names, n);
+  if (sug) ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`; did you mean `%s`?", p->name, c->what, sug);
+  else ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`", p->name, c->what);
+}
+
+/* One property: known, not repeated (unless it may be), one value (unless
+** it takes several), then converted. Nonzero when reported. */
+static int check_prop(Ctx *c, const Schema *s, const BlockVal *b, int i, const Row *r, void *target) {
+  const Prop *p = &b->props[i];
+  if (!r) { unknown_prop(c, s, p); return 1; }
+  int first = -1;
+  for (int j = 0; j < i && first < 0; j++)
+    if (strcmp(b->props[j].name, p->name) == 0) first = j;
+  if (first >= 0 && !(r->flags & R_REPEAT)) {
+    ev_error(c->ev, name_range(p), "`%s` is given twice in `%s`", p->name, c->what);
+    diag_note(name_range(&b->props[first]), "first given here");
+    return 1;
+  }
+  if (p->n != 1 && !(r->flags & R_MANY)) {
+    if (p->n == 0) expect(c, p, 0, "a value");
+    else ev_error(c->ev, p->vloc[1], "`%s` in `%s` takes one value; found %d", p->name, c->what, p->n);
+    return 1;
+  }
+  return convert(c, p, r, target) != 0;
+}
+
+/* Check every property of b against s and convert it into target. */
+static int check_props(Ctx *c, const Schema *s, const BlockVal *b, void *target) {
+  int bad = 0;
+  for (int pass = 0; pass < 2; pass++)
+    for (int i = 0; i < b->nprops; i++) {
+      const Row *r = find_row(s, b->props[i].name);
+      if (r && (pass == 0) != ((r->flags & R_FIRST) != 0)) continue;
+      if (!r && pass == 0) continue;
+      bad |= check_prop(c, s, b, i, r, target);
+    }
+  for (int i = 0; i < s->nrows; i++) {
+    if (!(s->rows[i].flags & R_REQUIRED)) continue;
+    int found = 0;
+    for (int j = 0; j < b->nprops && !found; j++) found = strcmp(b->props[j].name, s->rows[i].name) == 0;
+    if (!found && !bad) {
+      ev_error(c->ev, b->loc, "`%s` block needs `%s`", c->what, s->rows[i].name);
+      bad = 1;
+    }
+  }
+  return bad ? -1 : 0;
+}
+
+/* Words after the kind: a name (W_NAME: at most one), or a sub-kind. */
+static int check_words(Ctx *c, const Schema *s, const BlockVal *b) {
+  int max = s->words == W_NONE ? 0 : s->words == W_NAME ? 1 : 2;
+  if (b->nwords <= max) return 0;
+  ev_error(c->ev, b->wordloc[max], "`%s` takes %s; found `%s`", b->kind,
+           max == 0 ? "no name" : max == 1 ? "at most one name" : "a kind and a variant", b->words[max]);
+  return -1;
+}
+
+static void unknown_kind(Ctx *c, const BlockVal *b, const char *allowed, const char *where) {
+  const char *names[NSCHEMAS];
+  int n = 0;
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", allowed);
+  for (char *tok = strtok(buf, "|"); tok; tok = strtok(NULL, "|")) names[n++] = tok;
+  const char *sug = suggest_name(b->kind, names, n);
+  if (!schema_known_kind(b->kind)) {
+    if (!sug) {
+      n = 0;
+      for (int i = 0; i < NSCHEMAS; i++) names[n++] = schemas[i].kind;
+      sug = suggest_name(b->kind, names, n);
+    }
+    if (sug) ev_error(c->ev, b->loc, "unknown block `%s`%s; did you mean `%s`?", b->kind, where, sug);
+    else ev_error(c->ev, b->loc, "unknown block `%s`%s", b->kind, where);
+  } else ev_error(c->ev, b->loc, "a `%s` block cannot be%s", b->kind, where);
+}
+
+static const Schema *shade_schema(Ctx *c, const BlockVal *b) {
+  static const char *kinds[] = {"flat", "gouraud", "phong", "toon", "threshold", "bokashi", "ink", "origami"};
+  if (b->nwords == 0) {
+    ev_error(c->ev, b->loc, "`shade` needs a shading model: flat, gouraud, phong, toon, threshold, bokashi, ink or origami");
+    return NULL;
+  }
+  const Schema *s = find_schema("shade", b->words[0]);
+  if (s) return s;
+  const char *sug = suggest_name(b->words[0], kinds, 8);
+  if (sug) ev_error(c->ev, b->wordloc[0], "unknown shading model `%s`; did you mean `%s`?", b->words[0], sug);
+  else ev_error(c->ev, b->wordloc[0], "unknown shading model `%s` (flat, gouraud, phong, toon, threshold, bokashi, ink, origami)", b->words[0]);
+  return NULL;
+}
+
+/* ---- emitters --------------------------------------------------------- */
+
+static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
+  const Schema *s = shade_schema(c, b);
+  if (!s) return -1;
+  if (st->shade.kind != SHADE_NONE) {
+    ev_error(c->ev, b->loc, "a style has one `shade` pass; this is the second");
+    return -1;
+  }
+  static const ShadeKind kinds[] = {SHADE_FLAT, SHADE_GOURAUD, SHADE_PHONG, SHADE_TOON,
+                                    SHADE_THRESHOLD, SHADE_BOKASHI, SHADE_INK, SHADE_ORIGAMI};
+  SceneShade *sh = &st->shade;
+  SceneShade def = scene_default_style().shade;
+  *sh = def;
+  sh->kind = kinds[s - find_schema("shade", "flat")];
+  sh->subkind = b->nwords > 1 ? scene_str(c, b->words[1]) : NULL;
+  if (sh->kind == SHADE_BOKASHI && sh->subkind && strcmp(sh->subkind, "linear") && strcmp(sh->subkind, "sphere")) {
+    ev_error(c->ev, b->wordloc[1], "`shade bokashi` is `linear` or `sphere`; found `%s`", sh->subkind);
+    return -1;
+  }
+  if (sh->kind != SHADE_BOKASHI && b->nwords > 1) {
+    ev_error(c->ev, b->wordloc[1], "`shade %s` has no variant `%s`", b->words[0], b->words[1]);
+    return -1;
+  }
+  if (b->nwords > 2) return check_words(c, s, b);
+  sh->loc = b->loc;
+  apply_defaults(s, sh);
+  snprintf(c->what, sizeof c->what, "shade %s", b->words[0]);
+  c->pass = "shade";
+  return check_props(c, s, b, sh);
+}
+
+static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
+  Ctx sc = *c;
+  sc.style = st;
+  if (strcmp(sub->kind, "shade") == 0) return fill_shade(&sc, st, sub);
+  const Schema *s = find_schema(sub->kind, NULL);
+  if (!s || !strstr("lines|noise|pattern", sub->kind)) {
+    unknown_kind(c, sub, "shade|lines|noise|pattern", " inside `style`");
+    return -1;
+  }
+  if (check_words(&sc, s, sub)) return -1;
+  snprintf(sc.what, sizeof sc.what, "%s", sub->kind);
+  sc.pass = scene_str(c, sub->kind);
+  if (strcmp(sub->kind, "lines") == 0) {
+    if (st->lines.present == 2) {
+      ev_error(c->ev, sub->loc, "a style has one `lines` pass; this is the second");
+      return -1;
+    }
+    st->lines = scene_default_style().lines;
+    apply_defaults(s, &st->lines);
+    st->lines.present = 2;   /* set explicitly: 1 once checked */
+    st->lines.loc = sub->loc;
+    return check_props(&sc, s, sub, &st->lines);
+  }
+  return check_props(&sc, s, sub, st);
+}
+
+static int emit_style(Ctx *c, const BlockVal *b) {
+  Scene *sc = c->ev->scene;
+  SceneStyle st = scene_default_style();
+  st.shade.kind = SHADE_NONE;
+  st.lines.present = 0;
+  st.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
+  st.loc = b->loc;
+  c->style = &st;
+  int bad = check_props(c, find_schema("style", NULL), b, &st);
+  for (int i = 0; i < b->nsubs; i++) bad |= fill_sub(c, &st, b->subs[i]) != 0;
+  if (st.shade.kind == SHADE_NONE) st.shade = scene_default_style().shade;
+  if (st.lines.present) st.lines.present = 1;
+  if (bad) return -1;
+  sc->styles = grow(c, sc->styles, sc->nstyles, sizeof *sc->styles);
+  sc->styles[sc->nstyles] = st;
+  return sc->nstyles++;
+}
+
+static int no_subs(Ctx *c, const BlockVal *b) {
+  char where[80];
+  snprintf(where, sizeof where, " inside `%s`", b->kind);
+  for (int i = 0; i < b->nsubs; i++) unknown_kind(c, b->subs[i], "", where);
+  return b->nsubs ? -1 : 0;
+}
+
+static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
+  Scene *sc = c->ev->scene;
+  SceneObject o;
+  memset(&o, 0, sizeof o);
+  o.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
+  o.transform = m4_identity();
+  o.style = -1;
+  o.tess_kind = TESS_UNIFORM;
+  o.tess_n = 8;
+  o.loc = b->loc;
+  if (check_props(c, s, b, &o) || no_subs(c, b)) return -1;
+  sc->objects = grow(c, sc->objects, sc->nobjects, sizeof *sc->objects);
+  sc->objects[sc->nobjects++] = o;
+  return 0;
+}
+
+/* After an origami block: the folded state and relations must fit. */
+static int check_origami(Ctx *c, SceneOrigami *o, const BlockVal *b) {
+  if (o->nverts == 0 && !o->fold_file) {
+    ev_error(c->ev, b->loc, "`origami` block needs a crease pattern: a `paper { ... }` block or `paper fold_file(...)`");
+    return -1;
+  }
+  if (c->folded_n && c->folded_n != o->nverts) {
+    ev_error(c->ev, b->loc, "`folded` has %d points but the paper has %d vertices", c->folded_n, o->nverts);
+    return -1;
+  }
+  if (o->nfaces && o->fixed >= o->nfaces) {
+    ev_error(c->ev, b->loc, "`fixed` face %d does not exist (the paper has %d faces)", o->fixed, o->nfaces);
+    return -1;
+  }
+  return 0;
+}
+
+static int emit_origami(Ctx *c, const Schema *s, const BlockVal *b) {
+  Scene *sc = c->ev->scene;
+  SceneOrigami o;
+  memset(&o, 0, sizeof o);
+  o.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
+  o.transform = m4_identity();
+  o.style = -1;
+  o.overlap_loc = src_none();
+  o.loc = b->loc;
+  int bad = 0;
+  for (int i = 0; i < b->nsubs; i++) {
+    const BlockVal *sub = b->subs[i];
+    if (strcmp(sub->kind, "paper") != 0) { unknown_kind(c, sub, "paper", " inside `origami`"); bad = 1; continue; }
+    Ctx pc = *c;
+    snprintf(pc.what, sizeof pc.what, "paper");
+    bad |= check_words(&pc, find_schema("paper", NULL), sub) || check_props(&pc, find_schema("paper", NULL), sub, &o);
+  }
+  bad |= check_props(c, s, b, &o) != 0;
+  if (bad || check_origami(c, &o, b)) return -1;
+  sc->origami = grow(c, sc->origami, sc->norigami, sizeof *sc->origami);
+  sc->origami[sc->norigami++] = o;
+  return 0;
+}
+
+/* camera and output may appear once: a second points at the first. */
+static int once(Ctx *c, const BlockVal *b, SrcRange first, int present) {
+  if (!present) return 0;
+  ev_error(c->ev, b->loc, "a second `%s` block", b->kind);
+  diag_note(first, "the first is here");
+  return -1;
+}
+
+static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
+  Scene *sc = c->ev->scene;
+  if (strcmp(b->kind, "output") == 0) {
+    if (once(c, b, sc->output.loc, sc->output.loc.file >= 0)) return -1;
+    apply_defaults(s, &sc->output);
+    sc->output.loc = b->loc;
+    return check_props(c, s, b, &sc->output) || no_subs(c, b) ? -1 : 0;
+  }
+  if (strcmp(b->kind, "camera") == 0) {
+    if (once(c, b, sc->camera.loc, sc->camera.present)) return -1;
+    SceneCamera cam = sc->camera;
+    apply_defaults(s, &cam);
+    cam.present = 1;
+    cam.kind = CAMERA_PERSPECTIVE;
+    cam.loc = b->loc;
+    if (check_props(c, s, b, &cam) || no_subs(c, b)) return -1;
+    sc->camera = cam;
+    return 0;
+  }
+  SceneLight l;   /* light */
+  memset(&l, 0, sizeof l);
+  apply_defaults(s, &l);
+  l.kind = LIGHT_POINT;
+  l.position = v3(0, 0, 10);
+  l.color = (Color){1, 1, 1, 1};
+  l.loc = b->loc;
+  if (check_props(c, s, b, &l) || no_subs(c, b)) return -1;
+  int pos = 0, dir = 0;
+  for (int i = 0; i < b->nprops; i++) {
+    pos |= strcmp(b->props[i].name, "position") == 0;
+    dir |= strcmp(b->props[i].name, "direction") == 0;
+  }
+  if (pos == dir) {
+    ev_error(c->ev, b->loc, pos ? "a `light` has `position` (a point light) or `direction` (a sun), not both"
+                                : "`light` block needs `position` (a point light) or `direction` (a sun)");
+    return -1;
+  }
+  sc->lights = grow(c, sc->lights, sc->nlights, sizeof *sc->lights);
+  sc->lights[sc->nlights++] = l;
+  return 0;
+}
+
+int schema_emit(Eval *ev, BlockVal *b) {
+  Ctx c;
+  memset(&c, 0, sizeof c);
+  c.ev = ev;
+  snprintf(c.what, sizeof c.what, "%s", b->kind);
+  const Schema *s = find_schema(b->kind, NULL);
+  if (!s || (!s->top && strcmp(b->kind, "style") != 0)) {
+    unknown_kind(&c, b, "output|camera|light|style|object|origami", s ? " at the top level" : "");
+    return -1;
+  }
+  if (check_words(&c, s, b)) return -1;
+  if (strcmp(b->kind, "style") == 0) return emit_style(&c, b);
+  /* the other kinds are not values: their result is only success */
+  if (strcmp(b->kind, "object") == 0) emit_object(&c, s, b);
+  else if (strcmp(b->kind, "origami") == 0) emit_origami(&c, s, b);
+  else emit_simple(&c, s, b);
+  return -1;
+}

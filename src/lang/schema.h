@@ -1,0 +1,24 @@
+/*
+** Block schemas: one table per block kind (output, camera, light, style,
+** shade <kind>, lines, noise, pattern, object, origami, paper) giving each
+** property's name, type, range, default, and whether it may repeat. The
+** evaluator hands finished blocks to schema_emit, which checks them and
+** fills the Scene. Adding a property is one table row in schema.c.
+*/
+#ifndef lang_schema_h
+#define lang_schema_h
+
+#include "eval_int.h"
+
+/* Largest image side `output { size [w, h]; }` may ask for. */
+#define SCHEMA_MAX_IMAGE_SIDE 16384
+/* Most segments a patch side `tessellate N` may ask for. */
+#define SCHEMA_MAX_TESSELLATE 256
+/* Most samples a pixel side `samples N` may ask for. */
+#define SCHEMA_MAX_SAMPLES 16
+
+int schema_emit(Eval *ev, BlockVal *b);
+int schema_wants_symbol(const char *kind, const char *word, const char *prop);
+int schema_known_kind(const char *kind);
+
+#endif

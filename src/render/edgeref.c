@@ -1,0 +1,487 @@
+/*
+** The reference image: mesh depth with a slope-scaled offset, then every
+** important edge drawn with its id (depth-tested, depth-writing), in id
+** order. Work is split into horizontal bands; each band sees every
+** triangle and edge in the same order, so the image never depends on the
+** number of workers.
+*/
+#include "edgeref.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+
+/* ---- screen triangles ---------------------------------------------------- */
+
+/* A triangle ready to rasterize: pixel positions, nearness, the offset its
+** depth is pushed back by, and the object it belongs to. */
+typedef struct ScreenTri {
+  float x[3], y[3], n[3];
+  float off;
+  int obj, tri;              /* object index, mesh triangle */
+  int ymin, ymax;            /* rows it may cover */
+} ScreenTri;
+
+typedef struct TriList { int n, cap; ScreenTri *t; } TriList;
+
+/* A clip-space point to pixels and nearness (1 - depth). */
+static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, float *n) {
+  double iw = 1.0 / c[3];
+  *x = (float)((c[0] * iw + 1) * 0.5 * w);
+  *y = (float)((1 - c[1] * iw) * 0.5 * h);
+  *n = (float)((1 - c[2] * iw) * 0.5);
+}
+
+/* Append the triangle a, b, c (pixels and nearness) if it has area. */
+static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h) {
+  /* p: x0 y0 n0 x1 y1 n1 x2 y2 n2 */
+  double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
+  double det = ax * by - ay * bx;
+  if (!(fabs(det) > 1e-12)) return;
+  double an = p[5] - p[2], bn = p[8] - p[2];
+  double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
+  double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
+  double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
+  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (l->n == l->cap) l->t = xgrow(l->t, &l->cap, l->n + 1, sizeof *l->t);
+  ScreenTri *t = &l->t[l->n++];
+  for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
+  /* polygon offset: factor times the depth slope, plus a few ulps */
+  t->off = (float)(factor * (fabs(dndx) + fabs(dndy))) + LINE_DEPTH_EPS;
+  t->obj = obj;
+  t->tri = tri;
+  t->ymin = (int)fmax(0, floor(ymin));
+  t->ymax = (int)fmin(h - 1, ceil(ymax));
+}
+
+/* Clip the triangle c[3] against the near plane (z >= -w) and append the
+** pieces. */
+static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double factor, int w, int h) {
+  double poly[4][4];
+  int np = 0;
+  for (int k = 0; k < 3; k++) {
+    const double *a = c[k], *b = c[(k + 1) % 3];
+    double da = a[2] + a[3], db = b[2] + b[3];   /* >= 0 in front of the near plane */
+    if (da >= 0) memcpy(poly[np++], a, sizeof poly[0]);
+    if ((da >= 0) != (db >= 0)) {
+      double t = da / (da - db);
+      for (int j = 0; j < 4; j++) poly[np][j] = a[j] + t * (b[j] - a[j]);
+      np++;
+    }
+  }
+  if (np < 3) return;
+  float s[4][3];
+  for (int k = 0; k < np; k++) {
+    if (!(poly[k][3] > 0)) return;
+    clip_to_screen(poly[k], w, h, &s[k][0], &s[k][1], &s[k][2]);
+  }
+  for (int k = 1; k + 1 < np; k++) {
+    float p[9] = {s[0][0], s[0][1], s[0][2], s[k][0], s[k][1], s[k][2],
+                  s[k + 1][0], s[k + 1][1], s[k + 1][2]};
+    push_tri(l, p, obj, tri, factor, w, h);
+  }
+}
+
+/* Every triangle of every object, with the offset its object's edges get
+** from it. */
+static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h) {
+  for (int i = 0; i < edges->nobj; i++) {
+    const Mesh *m = objs[i].mesh;
+    const LineVert *v = edges->obj[i].vert;
+    const SceneLines *ls = objs[i].lines;
+    double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
+    if (!(factor > 0)) factor = 0;
+    for (int t = 0; t < m->ntris; t++) {
+      const double *c[3] = {v[m->tri[t][0]].clip, v[m->tri[t][1]].clip, v[m->tri[t][2]].clip};
+      add_clipped(l, c, i, t, factor, w, h);
+    }
+  }
+}
+
+/* The part of an image a buffer covers: pixels [ox, ox + w) x [oy, oy + h). */
+typedef struct Window { int ox, oy, w, h; } Window;
+
+/* Depth is only ever read where an edge is drawn, so the reference image
+** rasterizes the meshes only in the REF_TILE x REF_TILE tiles of the window
+** that some edge's walk crosses: the same depths there, a fraction of the
+** pixels. */
+#define REF_TILE 8
+
+typedef struct TileMask {
+  int tw, th;                /* tiles across and down the window */
+  unsigned char *on;         /* tw * th: an edge crosses the tile */
+  int *sat;                  /* (tw + 1) * (th + 1): summed-area table of on */
+} TileMask;
+
+/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold an edge? */
+static int mask_any(const TileMask *m, int tx0, int ty0, int tx1, int ty1) {
+  if (tx0 < 0) tx0 = 0;
+  if (ty0 < 0) ty0 = 0;
+  if (tx1 >= m->tw) tx1 = m->tw - 1;
+  if (ty1 >= m->th) ty1 = m->th - 1;
+  if (tx0 > tx1 || ty0 > ty1) return 0;
+  int W = m->tw + 1;
+  return m->sat[(ty1 + 1) * W + tx1 + 1] - m->sat[ty0 * W + tx1 + 1] - m->sat[(ty1 + 1) * W + tx0] +
+         m->sat[ty0 * W + tx0] > 0;
+}
+
+/* Fill pixels [xa, xb] of row y (window coordinates row, the buffers'
+** offset) with t's nearness where nearer. */
+static void raster_run(const ScreenTri *t, uint32_t k, float *near, uint32_t *tri_at, int32_t *ids,
+                       size_t row, int ox, int xa, int xb, double n0, double dndx) {
+  float *nr = near + row;
+  for (int x = xa; x <= xb; x++) {
+    float nf = (float)(n0 + dndx * (x - xa));
+    size_t i = (size_t)(x - ox);
+    if (nf > nr[i]) {
+      nr[i] = nf;
+      if (tri_at) tri_at[row + i] = LINE_REF_TRI | k;
+      if (ids) ids[row + i] = t->obj;
+    }
+  }
+}
+
+/* Rasterize t (number k in its list) into rows [y0, y1) of the window:
+** pixel centres inside (edges included) take its nearness when it is
+** nearer than what is there, and LINE_REF_TRI | k in tri_at or the object
+** index in ids when given. */
+static void raster_tri(const ScreenTri *t, uint32_t k, float *near, uint32_t *tri_at, int32_t *ids,
+                       const Window *win, const TileMask *mask, int y0, int y1) {
+  int ya = t->ymin > y0 ? t->ymin : y0, yb = t->ymax < y1 - 1 ? t->ymax : y1 - 1;
+  if (ya > yb) return;
+  if (mask) {   /* no edge in its box: nothing will read its depth */
+    float xmin = fminf(t->x[0], fminf(t->x[1], t->x[2])), xmax = fmaxf(t->x[0], fmaxf(t->x[1], t->x[2]));
+    int tx0 = ((int)fmaxf(xmin, (float)win->ox) - win->ox) / REF_TILE;
+    int tx1 = ((int)fminf(xmax, (float)(win->ox + win->w - 1)) - win->ox) / REF_TILE;
+    if (!mask_any(mask, tx0, (ya - win->oy) / REF_TILE, tx1, (yb - win->oy) / REF_TILE)) return;
+  }
+  double x0 = t->x[0], y0d = t->y[0];
+  double ax = t->x[1] - x0, ay = t->y[1] - y0d, bx = t->x[2] - x0, by = t->y[2] - y0d;
+  double det = ax * by - ay * bx;
+  double an = t->n[1] - t->n[0], bn = t->n[2] - t->n[0];
+  double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
+  double sgn = det > 0 ? 1 : -1;
+  /* side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; per
+  ** row it bounds px from below (a > 0) or above (a < 0) at m * py + q;
+  ** a horizontal side (a = 0) keeps m = b, q = c and empties rows where
+  ** b * py + c < 0 */
+  double m[3], q[3];
+  int kind[3];   /* 1: lower bound, -1: upper bound, 0: horizontal */
+  for (int e = 0; e < 3; e++) {
+    int e1 = (e + 1) % 3;
+    double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
+    double a = -sgn * ey, b = sgn * ex, c = sgn * (ey * t->x[e] - ex * t->y[e]);
+    kind[e] = a > 0 ? 1 : a < 0 ? -1 : 0;
+    m[e] = kind[e] ? -b / a : b;
+    q[e] = kind[e] ? -c / a : c;
+  }
+  int xlo = win->ox, xhi = win->ox + win->w - 1;
+  for (int y = ya; y <= yb; y++) {
+    double py = y + 0.5, lo = xlo + 0.5, hi = xhi + 0.5;
+    int empty = 0;
+    for (int e = 0; e < 3; e++) {
+      double r = m[e] * py + q[e];
+      if (kind[e] > 0) { if (r > lo) lo = r; }
+      else if (kind[e] < 0) { if (r < hi) hi = r; }
+      else if (r < 0) empty = 1;
+    }
+    if (empty || lo > hi) continue;
+    /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= xlo >= 0, so truncation floors */
+    double a0 = lo - 0.5, b0 = hi - 0.5;
+    int xa = (int)a0, xb = (int)b0;
+    if (xa < a0) xa++;
+    if (xb > xhi) xb = xhi;
+    if (xa > xb) continue;
+    double n0 = t->n[0] + dndx * (xa + 0.5 - x0) + dndy * (py - y0d);
+    size_t row = (size_t)(y - win->oy) * win->w;
+    if (!mask) {
+      raster_run(t, k, near, tri_at, ids, row, win->ox, xa, xb, n0, dndx);
+      continue;
+    }
+    const unsigned char *on = mask->on + (size_t)((y - win->oy) / REF_TILE) * mask->tw;
+    for (int tx = (xa - win->ox) / REF_TILE; tx <= (xb - win->ox) / REF_TILE; tx++) {
+      if (!on[tx]) continue;
+      int ta = win->ox + tx * REF_TILE, tb = ta + REF_TILE - 1;
+      if (ta < xa) ta = xa;
+      if (tb > xb) tb = xb;
+      raster_run(t, k, near, tri_at, ids, row, win->ox, ta, tb, n0 + dndx * (ta - xa), dndx);
+    }
+  }
+}
+
+/* ---- edge spans ---------------------------------------------------------- */
+
+/* Clip the segment p0 -> p1 (t in [*t0, *t1]) to the box [0, w) x [0, h). */
+static int clip_box(double x0, double y0, double x1, double y1, double w, double h, double *t0,
+                    double *t1) {
+  double dx = x1 - x0, dy = y1 - y0;
+  double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0, w - x0, y0, h - y0};
+  for (int k = 0; k < 4; k++) {
+    if (p[k] == 0) {
+      if (q[k] < 0) return 0;
+    } else {
+      double r = q[k] / p[k];
+      if (p[k] < 0) { if (r > *t1) return 0; if (r > *t0) *t0 = r; }
+      else { if (r < *t0) return 0; if (r < *t1) *t1 = r; }
+    }
+  }
+  return 1;
+}
+
+/* The span of mesh edge (a, b): clipped to the near plane in clip space,
+** projected, clipped to the image. */
+static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, int h) {
+  memset(s, 0, sizeof *s);
+  double ca[4], cb[4];
+  memcpy(ca, a->clip, sizeof ca);
+  memcpy(cb, b->clip, sizeof cb);
+  double da = ca[2] + ca[3], db = cb[2] + cb[3];
+  if (da < 0 && db < 0) return;
+  s->real0 = da >= 0;
+  s->real1 = db >= 0;
+  if (da < 0 || db < 0) {   /* one end behind the near plane: move it onto it */
+    double t = da / (da - db);
+    double *m = da < 0 ? ca : cb;
+    for (int j = 0; j < 4; j++) m[j] = a->clip[j] + t * (b->clip[j] - a->clip[j]);
+  }
+  if (!(ca[3] > 0) || !(cb[3] > 0)) return;
+  float x0, y0, n0, x1, y1, n1;
+  clip_to_screen(ca, w, h, &x0, &y0, &n0);
+  clip_to_screen(cb, w, h, &x1, &y1, &n1);
+  double t0 = 0, t1 = 1, lim_w = w - 1e-3, lim_h = h - 1e-3;
+  if (!clip_box(x0, y0, x1, y1, lim_w, lim_h, &t0, &t1)) return;
+  if (t0 > 0) s->real0 = 0;
+  if (t1 < 1) s->real1 = 0;
+  s->x0 = (float)(x0 + t0 * (x1 - x0)); s->y0 = (float)(y0 + t0 * (y1 - y0));
+  s->x1 = (float)(x0 + t1 * (x1 - x0)); s->y1 = (float)(y0 + t1 * (y1 - y0));
+  s->n0 = (float)(n0 + t0 * (n1 - n0)); s->n1 = (float)(n0 + t1 * (n1 - n0));
+  s->px0 = (int)floor(fmax(0, s->x0)); s->py0 = (int)floor(fmax(0, s->y0));
+  s->px1 = (int)floor(fmax(0, s->x1)); s->py1 = (int)floor(fmax(0, s->y1));
+  if (s->px0 > w - 1) s->px0 = w - 1;
+  if (s->px1 > w - 1) s->px1 = w - 1;
+  if (s->py0 > h - 1) s->py0 = h - 1;
+  if (s->py1 > h - 1) s->py1 = h - 1;
+  int ax = abs(s->px1 - s->px0), ay = abs(s->py1 - s->py0);
+  s->nsteps = (ax > ay ? ax : ay) + 1;
+}
+
+/* ---- bands --------------------------------------------------------------- */
+
+/* What the depth test of an edge needs to know about it. */
+typedef struct EdgeInfo {
+  int obj, f0, f1, v0, v1;
+  unsigned char facing;     /* bit 0: a face of it looks at the viewer, bit 1: one looks away */
+} EdgeInfo;
+
+typedef struct RefJob {
+  LineRef *ref;
+  const TriList *tris;
+  const LineEdges *edges;
+  const EdgeInfo *info;     /* per id - 1 */
+  Window win;               /* the pixels the buffers cover */
+  const TileMask *mask;     /* tiles to rasterize, NULL = all */
+  int nbands;
+  int **count;              /* per band: pixel counts per id - 1 */
+  int32_t *ids;             /* line_object_ids only */
+} RefJob;
+
+static void band_rows(const RefJob *j, int band, int *y0, int *y1) {
+  int h = j->win.h;
+  *y0 = j->win.oy + (int)((long long)h * band / j->nbands);
+  *y1 = j->win.oy + (int)((long long)h * (band + 1) / j->nbands);
+}
+
+/* May triangle t push its depth back for edge e? When it faces the
+** viewer as one of e's faces does (front or back). A face turned the other
+** way occludes at its true depth, so an edge on the far side of an object
+** does not leak out from behind a silhouette or a corner. */
+static int lenient(const RefJob *j, const ScreenTri *t, const EdgeInfo *e) {
+  return (e->facing & (j->edges->obj[t->obj].front[t->tri] ? 1 : 2)) != 0;
+}
+
+/* Draw span s (id) into rows [y0, y1): where it is not behind the nearest
+** surface (pushed back by its offset when lenient) or an earlier edge, the
+** pixel takes the id and the edge's nearness. */
+static void draw_span(const RefJob *j, const LineSpan *s, uint32_t id, int *count, int y0, int y1) {
+  int ymin = s->py0 < s->py1 ? s->py0 : s->py1, ymax = s->py0 < s->py1 ? s->py1 : s->py0;
+  if (ymax < y0 || ymin >= y1) return;
+  LineRef *ref = j->ref;
+  const EdgeInfo *e = &j->info[id - 1];
+  const Window *win = &j->win;
+  float dn = s->nsteps > 1 ? (s->n1 - s->n0) / (float)(s->nsteps - 1) : 0;
+  for (int i = 0; i < s->nsteps; i++) {
+    int x, y;
+    line_span_step(s, i, &x, &y);
+    if (y < y0 || y >= y1 || x < win->ox || x >= win->ox + win->w) continue;
+    size_t at = (size_t)(y - win->oy) * win->w + (x - win->ox);
+    float n = s->n0 + dn * (float)i, limit = ref->near[at];
+    uint32_t old = ref->id[at];
+    if (old & LINE_REF_TRI) {   /* a surface: pushed back when lenient */
+      const ScreenTri *t = &j->tris->t[old & ~LINE_REF_TRI];
+      limit -= lenient(j, t, e) ? t->off : LINE_DEPTH_EPS;
+      old = 0;
+    }
+    if (n < limit || n <= 0) continue;   /* hidden (or beyond the far plane) */
+    if (old == id) continue;
+    /* against an earlier edge (ends meeting at a vertex): the nearer wins;
+    ** at equal depth, an edge with a face toward the viewer beats one
+    ** without, else the earlier stays */
+    if (old && n <= limit + LINE_DEPTH_EPS && !((e->facing & 1) && !(j->info[old - 1].facing & 1)))
+      continue;
+    if (old) count[old - 1]--;
+    count[id - 1]++;
+    ref->id[at] = id;
+    ref->near[at] = n;
+  }
+}
+
+static void ref_band(void *ctx, int band, int worker) {
+  RefJob *j = ctx;
+  LineRef *ref = j->ref;
+  int y0, y1;
+  band_rows(j, band, &y0, &y1);
+  for (int i = 0; i < j->tris->n; i++) {
+    const ScreenTri *t = &j->tris->t[i];
+    if (t->ymax >= y0 && t->ymin < y1)
+      raster_tri(t, (uint32_t)i, ref->near, ref->id, j->ids, &j->win, j->mask, y0, y1);
+  }
+  if (!ref->id) return;
+  for (int i = 0; i < ref->nids; i++)
+    if (ref->span[i].nsteps) draw_span(j, &ref->span[i], (uint32_t)i + 1, j->count[band], y0, y1);
+}
+
+static int band_count(int threads, int height) {
+  int n = threads > 1 ? threads * 4 : 1;
+  return n > height ? (height > 0 ? height : 1) : n;
+}
+
+static EdgeInfo *edge_info(const LineEdges *edges) {
+  EdgeInfo *info = xmalloc(((size_t)edges->n + 1) * sizeof *info);
+  for (int i = 0; i < edges->n; i++) {
+    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
+    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
+    EdgeInfo *e = &info[i];
+    e->obj = edges->obj_of[i];
+    e->f0 = me->f[0]; e->f1 = me->f[1];
+    e->v0 = me->v[0]; e->v1 = me->v[1];
+    e->facing = 0;
+    for (int k = 0; k < 2; k++)
+      if (me->f[k] >= 0) e->facing |= oe->front[me->f[k]] ? 1 : 2;
+  }
+  return info;
+}
+
+/* The tiles of the window that the walks of ref's spans cross. */
+static TileMask edge_tiles(const LineRef *ref, const Window *win) {
+  TileMask m;
+  m.tw = (win->w + REF_TILE - 1) / REF_TILE;
+  m.th = (win->h + REF_TILE - 1) / REF_TILE;
+  m.on = xcalloc((size_t)m.tw * m.th + 1, 1);
+  m.sat = xcalloc(((size_t)m.tw + 1) * (m.th + 1), sizeof *m.sat);
+  for (int i = 0; i < ref->nids; i++) {
+    const LineSpan *s = &ref->span[i];
+    for (int k = 0; k < s->nsteps; k++) {
+      int x, y;
+      line_span_step(s, k, &x, &y);
+      x -= win->ox;
+      y -= win->oy;
+      if (x >= 0 && y >= 0 && x < win->w && y < win->h) m.on[(y / REF_TILE) * m.tw + x / REF_TILE] = 1;
+    }
+  }
+  int W = m.tw + 1;
+  for (int ty = 0; ty < m.th; ty++)
+    for (int tx = 0; tx < m.tw; tx++)
+      m.sat[(ty + 1) * W + tx + 1] = m.on[ty * m.tw + tx] + m.sat[ty * W + tx + 1] +
+                                     m.sat[(ty + 1) * W + tx] - m.sat[ty * W + tx];
+  return m;
+}
+
+/* The box of the screen triangles within the image (w = 0 when none). */
+static Window tri_window(const TriList *l, int width, int height) {
+  double x0 = width, y0 = height, x1 = 0, y1 = 0;
+  for (int i = 0; i < l->n; i++)
+    for (int k = 0; k < 3; k++) {
+      const ScreenTri *t = &l->t[i];
+      if (t->x[k] < x0) x0 = t->x[k];
+      if (t->x[k] > x1) x1 = t->x[k];
+      if (t->y[k] < y0) y0 = t->y[k];
+      if (t->y[k] > y1) y1 = t->y[k];
+    }
+  Window w = {0, 0, 0, 0};
+  int xa = (int)fmax(0, floor(x0) - 1), ya = (int)fmax(0, floor(y0) - 1);
+  int xb = (int)fmin(width - 1, ceil(x1) + 1), yb = (int)fmin(height - 1, ceil(y1) + 1);
+  if (l->n == 0 || xa > xb || ya > yb) return w;
+  w.ox = xa; w.oy = ya; w.w = xb - xa + 1; w.h = yb - ya + 1;
+  return w;
+}
+
+void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
+                    int height, int threads) {
+  memset(ref, 0, sizeof *ref);
+  ref->width = width;
+  ref->height = height;
+  TriList tris = {0, 0, NULL};
+  collect_tris(&tris, edges, objs, width, height);
+  Window win = tri_window(&tris, width, height);   /* edges lie on the meshes: inside it */
+  size_t npx = (size_t)win.w * win.h;
+  ref->ox = win.ox; ref->oy = win.oy; ref->bw = win.w; ref->bh = win.h;
+  ref->bytes = npx * sizeof(float);
+  ref->near = line_big_zalloc(ref->bytes);
+  ref->id = line_big_zalloc(ref->bytes);
+  ref->nids = edges->n;
+  ref->span = xcalloc((size_t)edges->n + 1, sizeof *ref->span);
+  for (int i = 0; i < edges->n; i++) {
+    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
+    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
+    make_span(&ref->span[i], &oe->vert[me->v[0]], &oe->vert[me->v[1]], width, height);
+  }
+  TileMask mask = edge_tiles(ref, &win);
+  RefJob job = {ref, &tris, edges, edge_info(edges), win, &mask, band_count(threads, win.h), NULL, NULL};
+  job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
+  for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
+  if (npx) line_parallel(job.nbands, threads, ref_band, &job);
+  ref->count = job.count[0];
+  for (int b = 1; b < job.nbands; b++) {
+    for (int i = 0; i < edges->n; i++) ref->count[i] += job.count[b][i];
+    free(job.count[b]);
+  }
+  free(job.count);
+  free((void *)job.info);
+  free(mask.on);
+  free(mask.sat);
+  free(tris.t);
+  ref->visible = xmalloc(((size_t)edges->n + 1) * sizeof *ref->visible);
+  for (int i = 0; i < edges->n; i++)
+    if (ref->count[i] > 0) ref->visible[ref->nvisible++] = i + 1;
+}
+
+void line_ref_free(LineRef *ref) {
+  line_big_free(ref->near, ref->bytes);
+  line_big_free(ref->id, ref->bytes);
+  free(ref->span);
+  free(ref->count);
+  free(ref->visible);
+  memset(ref, 0, sizeof *ref);
+}
+
+int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int width, int height,
+                         int threads) {
+  size_t npx = (size_t)width * height;
+  int32_t *ids = xmalloc((npx ? npx : 1) * sizeof *ids);
+  for (size_t i = 0; i < npx; i++) ids[i] = -1;
+  LineRef ref;
+  memset(&ref, 0, sizeof ref);
+  ref.width = ref.bw = width;
+  ref.height = ref.bh = height;
+  ref.near = line_big_zalloc(npx * sizeof *ref.near);
+  TriList tris = {0, 0, NULL};
+  collect_tris(&tris, edges, objs, width, height);
+  Window win = {0, 0, width, height};
+  RefJob job = {&ref, &tris, edges, NULL, win, NULL, band_count(threads, height), NULL, ids};
+  line_parallel(job.nbands, threads, ref_band, &job);
+  free(tris.t);
+  line_big_free(ref.near, npx * sizeof *ref.near);
+  return ids;
+}

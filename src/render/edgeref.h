@@ -1,0 +1,106 @@
+/*
+** The reference image (001 §2.1.2): every important edge drawn with its own
+** id into an edge-id buffer, depth-tested against all meshes. The meshes
+** are drawn at their true depth; an edge compares against the nearest
+** surface at each pixel pushed away from the camera by a slope-scaled
+** offset, as a polygon offset (LINE_DEPTH_OFFSET_BASE + depth_offset
+** reference pixels of that surface's depth slope), when the surface is
+** turned the same way (toward or away from the viewer) as one of the
+** edge's faces, and by only LINE_DEPTH_EPS when it is turned the other
+** way. So an edge never loses to the faces it lies on (no stitching), and
+** an edge on the far side of an object does not leak out for a pixel or
+** two from behind a silhouette or a corner, as one global offset lets it.
+** Where edges meet, the nearer wins, and at equal depth one with a face
+** toward the viewer. The set of ids that survive is recorded as the edges
+** are drawn (per-id pixel counts), so the analysis never scans the image.
+**
+** Depth here is "nearness", 1 - depth of camera.h (1 at the near plane,
+** 0 at the far plane), so a zeroed buffer is empty.
+*/
+#ifndef render_edgeref_h
+#define render_edgeref_h
+
+#include <stdint.h>
+
+#include "edges.h"
+
+/* The polygon-offset factor, in reference pixels of a surface's depth
+** slope, before the style's depth_offset (default 0) is added to it: an
+** edge pixel's centre lies up to about a pixel off the edge's exact line. */
+#define LINE_DEPTH_OFFSET_BASE 1.5
+/* Constant part of the mesh offset, in nearness units (a few float ulps at
+** depth 1). */
+#define LINE_DEPTH_EPS 1e-6f
+
+/* An important edge's line in the reference image: its projected ends,
+** clipped to the near plane and the image, ordered from the mesh edge's
+** v[0] to v[1]. */
+typedef struct LineSpan {
+  float x0, y0, x1, y1;        /* reference pixels */
+  float n0, n1;                /* nearness at the ends */
+  int px0, py0, px1, py1;      /* the pixels of the ends (the walk goes between them) */
+  int nsteps;                  /* pixels of the walk; 0 = off screen */
+  unsigned char real0, real1;  /* the end is the vertex itself, not a clip point */
+} LineSpan;
+
+typedef struct LineRef {
+  int width, height;           /* the reference image */
+  int ox, oy, bw, bh;          /* the window the buffers cover: the screen box of the
+                                  meshes (nothing can be drawn outside it) */
+  float *near;                 /* bw x bh: nearness of the closest surface or edge, 0 = none */
+  uint32_t *id;                /* bw x bh: edge id drawn at each pixel, 0 = none; while
+                                  building, LINE_REF_TRI | k marks surface triangle k */
+  size_t bytes;                /* of each of near and id (big buffers are mapped) */
+  int nids;                    /* important edges (ids 1..nids) */
+  LineSpan *span;              /* per id - 1 */
+  int *count;                  /* per id - 1: pixels holding the id after drawing */
+  int nvisible;
+  int *visible;                /* the ids present in the image, ascending */
+} LineRef;
+
+/* Build the reference image of edges (whose vertices are already projected
+** into a width x height image) over the meshes of objs, using threads
+** workers (>= 1). Free with line_ref_free. */
+void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
+                    int height, int threads);
+void line_ref_free(LineRef *ref);
+
+/* The pixel of step i (0 <= i < s->nsteps) of the walk along s: a
+** Bresenham line from (px0, py0) to (px1, py1), stepping one pixel along
+** the dominant axis each time. Drawing and tracing share it, so they visit
+** the same pixels. */
+static inline void line_span_step(const LineSpan *s, int i, int *x, int *y) {
+  int dx = s->px1 - s->px0, dy = s->py1 - s->py0;
+  int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+  if (ax >= ay) {   /* x dominant: y moves by round(i * dy / dx) */
+    *x = s->px0 + (dx < 0 ? -i : i);
+    int off = ax ? (int)((2LL * i * ay + ax) / (2LL * ax)) : 0;
+    *y = s->py0 + (dy < 0 ? -off : off);
+  } else {
+    *y = s->py0 + (dy < 0 ? -i : i);
+    int off = (int)((2LL * i * ax + ay) / (2LL * ay));
+    *x = s->px0 + (dx < 0 ? -off : off);
+  }
+}
+
+/* Tag of a pixel of LineRef.id that holds a surface triangle, not an edge. */
+#define LINE_REF_TRI 0x80000000u
+
+/* The edge id at pixel (x, y) of ref (0 outside its window or where no
+** edge is). */
+static inline uint32_t line_ref_id(const LineRef *ref, int x, int y) {
+  x -= ref->ox;
+  y -= ref->oy;
+  if (x < 0 || y < 0 || x >= ref->bw || y >= ref->bh) return 0;
+  uint32_t v = ref->id[(size_t)y * ref->bw + x];
+  return v & LINE_REF_TRI ? 0 : v;
+}
+
+/* Rasterize the meshes of objs (depth only, no offset) into a width x
+** height buffer of object indices (-1 = background), nearest wins; the
+** vertices are those of edges (projected at that size). For the SVG's
+** filled regions. The caller frees the result. */
+int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int width, int height,
+                         int threads);
+
+#endif

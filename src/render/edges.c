@@ -1,0 +1,233 @@
+/*
+** Important edge detection (001 §2.1.1, Algorithm 1) and the per-object
+** data the reference image, tracing and linking read: projected vertices
+** and the vertex -> edge graph.
+*/
+#include "edges.h"
+
+#include <pthread.h>
+#include <stdint.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+
+#include "../base/mem.h"
+
+/* ---- classification ---------------------------------------------------- */
+
+/* Kinds of edge e with the crease test as n0 . n1 <= crease_cos. */
+static unsigned edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
+                          const SceneLines *ls, double crease_cos, const Camera *cam) {
+  const MeshEdge *me = &m->edges[e];
+  unsigned want = ls->kinds, kind = 0;
+  int f0 = me->f[0], f1 = me->f[1];
+  if (f0 < 0 || f1 < 0) {                          /* fewer than two faces */
+    if (want & EDGE_BOUNDARY) kind |= EDGE_BOUNDARY;
+    if (want & EDGE_FACE) kind |= EDGE_FACE;       /* a mesh border is a polygon edge too */
+    return kind;
+  }
+  if ((want & EDGE_FACE) && (!m->tri_face || m->tri_face[f0] != m->tri_face[f1]))
+    kind |= EDGE_FACE;
+  Vec3 n0 = fn[f0], n1 = fn[f1];
+  int degenerate = v3_dot(n0, n0) == 0 || v3_dot(n1, n1) == 0;
+  if (want & EDGE_CREASE) {
+    if (me->sharpness > 0) kind |= EDGE_CREASE;   /* tagged by subdivision */
+    /* angle(n0, n1) >= threshold  <=>  n0 . n1 <= cos(threshold) */
+    else if (!degenerate && v3_dot(n0, n1) <= crease_cos)
+      kind |= EDGE_CREASE;
+  }
+  if ((want & EDGE_SILHOUETTE) && !degenerate) {
+    /* view vector from the camera to an end point; the product of the two
+    ** dot products is <= 0 when one face looks at the viewer and the other
+    ** away (or either is edge-on) */
+    Vec3 v = cam->kind == CAMERA_ORTHO ? cam->forward : v3_sub(world[me->v[0]], cam->eye);
+    if (v3_dot(v, n0) * v3_dot(v, n1) <= 0) kind |= EDGE_SILHOUETTE;
+  }
+  return kind;
+}
+
+unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
+                        const SceneLines *ls, const Camera *cam) {
+  return edge_kind(m, e, world, fn, ls, cos(ls->crease_angle * M_PI / 180.0), cam);
+}
+
+/* ---- per object --------------------------------------------------------- */
+
+/* The vertex -> edge graph of m as offsets (nverts + 1) and edge lists. */
+static void build_adjacency(LineObjEdges *oe, const Mesh *m) {
+  oe->adj_start = xcalloc((size_t)m->nverts + 1, sizeof *oe->adj_start);
+  oe->adj = xmalloc(((size_t)m->nedges * 2 + 1) * sizeof *oe->adj);
+  for (int e = 0; e < m->nedges; e++) {
+    oe->adj_start[m->edges[e].v[0] + 1]++;
+    oe->adj_start[m->edges[e].v[1] + 1]++;
+  }
+  for (int v = 0; v < m->nverts; v++) oe->adj_start[v + 1] += oe->adj_start[v];
+  int *fill = xmalloc(((size_t)m->nverts + 1) * sizeof *fill);
+  memcpy(fill, oe->adj_start, (size_t)m->nverts * sizeof *fill);
+  for (int e = 0; e < m->nedges; e++) {
+    oe->adj[fill[m->edges[e].v[0]]++] = e;
+    oe->adj[fill[m->edges[e].v[1]]++] = e;
+  }
+  free(fill);
+}
+
+/* World positions, clip coordinates and reference pixels of m's vertices. */
+static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
+                             const Camera *cam) {
+  oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);
+  for (int v = 0; v < m->nverts; v++) {
+    LineVert *lv = &oe->vert[v];
+    world[v] = m4_point(to_world, m->pos[v]);
+    for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
+      lv->clip[r] = cam->world_to_clip.m[r][0] * world[v].x + cam->world_to_clip.m[r][1] * world[v].y +
+                    cam->world_to_clip.m[r][2] * world[v].z + cam->world_to_clip.m[r][3];
+    double w = lv->clip[3];
+    lv->x = lv->y = 0;
+    if (w > 0) {   /* pixel = ((ndc + 1) / 2 * width, (1 - ndc.y) / 2 * height) */
+      lv->x = (float)((lv->clip[0] / w + 1) * 0.5 * cam->width);
+      lv->y = (float)((1 - lv->clip[1] / w) * 0.5 * cam->height);
+    }
+  }
+}
+
+/* Unit world normals of m's triangles (zero for a degenerate one). */
+static void face_normals(Vec3 *fn, const Mesh *m, const Vec3 *world) {
+  for (int t = 0; t < m->ntris; t++) {
+    const int *c = m->tri[t];
+    Vec3 n = v3_cross(v3_sub(world[c[1]], world[c[0]]), v3_sub(world[c[2]], world[c[0]]));
+    fn[t] = v3_norm(n);
+  }
+}
+
+/* Append id entries for obj's important edges (kinds computed by the caller). */
+static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
+  if (out->n == *cap) {
+    int ncap = *cap ? *cap * 2 : 1024;
+    out->obj_of = xrealloc(out->obj_of, (size_t)ncap * sizeof *out->obj_of);
+    out->edge_of = xrealloc(out->edge_of, (size_t)ncap * sizeof *out->edge_of);
+    out->kind = xrealloc(out->kind, (size_t)ncap);
+    *cap = ncap;
+  }
+  out->obj_of[out->n] = obj;
+  out->edge_of[out->n] = e;
+  out->kind[out->n] = (unsigned char)kind;
+  out->n++;
+}
+
+void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam) {
+  memset(out, 0, sizeof *out);
+  out->nobj = nobj;
+  out->obj = xcalloc((size_t)(nobj > 0 ? nobj : 1), sizeof *out->obj);
+  int cap = 0;
+  for (int i = 0; i < nobj; i++) {
+    const Mesh *m = objs[i].mesh;
+    LineObjEdges *oe = &out->obj[i];
+    oe->mesh = m;
+    oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
+    Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
+    project_vertices(oe, world, m, objs[i].object_to_world, cam);
+    oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
+    Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
+    face_normals(fn, m, world);
+    oe->front = xmalloc((size_t)m->ntris + 1);
+    for (int t = 0; t < m->ntris; t++) {   /* the viewer sees its front: v . n < 0 */
+      Vec3 v = cam->kind == CAMERA_ORTHO ? cam->forward : v3_sub(world[m->tri[t][0]], cam->eye);
+      oe->front[t] = v3_dot(v, fn[t]) < 0;
+    }
+    if (oe->lines) {
+
+      double crease_cos = cos(oe->lines->crease_angle * M_PI / 180.0);
+      for (int e = 0; e < m->nedges; e++) {
+        unsigned kind = edge_kind(m, e, world, fn, oe->lines, crease_cos, cam);
+        if (!kind) continue;
+        add_edge(out, &cap, i, e, kind);
+        oe->id[e] = out->n;
+      }
+      build_adjacency(oe, m);
+    }
+    free(fn);
+    free(world);
+  }
+}
+
+void line_edges_free(LineEdges *e) {
+  for (int i = 0; i < e->nobj; i++) {
+    free(e->obj[i].vert);
+    free(e->obj[i].id);
+    free(e->obj[i].adj_start);
+    free(e->obj[i].adj);
+    free(e->obj[i].front);
+  }
+  free(e->obj);
+  free(e->obj_of);
+  free(e->edge_of);
+  free(e->kind);
+  memset(e, 0, sizeof *e);
+}
+
+/* ---- workers ------------------------------------------------------------ */
+
+typedef struct ParallelJob {
+  void (*fn)(void *ctx, int task, int worker);
+  void *ctx;
+  int ntasks;
+  atomic_int next;
+} ParallelJob;
+
+typedef struct ParallelArg { ParallelJob *job; int worker; } ParallelArg;
+
+static void *parallel_worker(void *p) {
+  ParallelArg *a = p;
+  for (;;) {
+    int t = atomic_fetch_add(&a->job->next, 1);
+    if (t >= a->job->ntasks) break;
+    a->job->fn(a->job->ctx, t, a->worker);
+  }
+  return NULL;
+}
+
+void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int worker), void *ctx) {
+  if (threads > ntasks) threads = ntasks;
+  if (threads <= 1) {
+    for (int t = 0; t < ntasks; t++) fn(ctx, t, 0);
+    return;
+  }
+  ParallelJob job = {fn, ctx, ntasks, 0};
+  pthread_t *th = xmalloc((size_t)threads * sizeof *th);
+  ParallelArg *arg = xmalloc((size_t)threads * sizeof *arg);
+  int started = 1;
+  for (int i = 0; i < threads; i++) { arg[i].job = &job; arg[i].worker = i; }
+  for (int i = 1; i < threads; i++) {
+    if (pthread_create(&th[i], NULL, parallel_worker, &arg[i]) != 0) break;
+    started++;
+  }
+  parallel_worker(&arg[0]);   /* the caller works too; a failed start only costs speed */
+  for (int i = 1; i < started; i++) pthread_join(th[i], NULL);
+  free(th);
+  free(arg);
+}
+
+/* ---- buffers ------------------------------------------------------------- */
+
+#define BIG_BUFFER (4u << 20)   /* from here on, map zeroed memory with huge pages */
+#define HUGE_PAGE (2u << 20)
+
+void *line_big_zalloc(size_t n) {
+  if (n < BIG_BUFFER) return xcalloc(n ? n : 1, 1);
+  size_t len = n + HUGE_PAGE;
+  unsigned char *p = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) sumi_fatal("out of memory mapping %zu bytes", n);
+  size_t head = (HUGE_PAGE - (uintptr_t)p % HUGE_PAGE) % HUGE_PAGE;
+  if (head) munmap(p, head);
+  if (HUGE_PAGE - head) munmap(p + head + n, HUGE_PAGE - head);
+  madvise(p + head, n, MADV_HUGEPAGE);   /* a hint: failure only costs speed */
+  return p + head;
+}
+
+void line_big_free(void *p, size_t n) {
+  if (!p) return;
+  if (n < BIG_BUFFER) free(p);
+  else munmap(p, n);
+}
+

@@ -1,0 +1,171 @@
+/*
+** The line stage's entry point: runs the stages in order, times them, and
+** scales the polylines from the reference image to the output.
+*/
+#include "lines.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../base/mem.h"
+#include "../lang/diag.h"
+#include "edgeref.h"
+#include "link.h"
+#include "stats.h"
+#include "trace.h"
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int draws_lines(const LineObject *o) {
+  return o->lines && o->lines->present && o->lines->kinds && o->mesh && o->mesh->ntris > 0;
+}
+
+void line_ref_size(const LineObject *objs, int nobj, const Camera *cam, int *w, int *h) {
+  double scale = 0;
+  for (int i = 0; i < nobj; i++)
+    if (draws_lines(&objs[i]) && objs[i].lines->ref_scale > scale) scale = objs[i].lines->ref_scale;
+  if (!(scale > 0)) scale = 1;
+  *w = (int)fmax(1, floor(cam->width * scale + 0.5));
+  *h = (int)fmax(1, floor(cam->height * scale + 0.5));
+}
+
+int line_render(const LineObject *objs, int nobj, const Camera *cam, Image *target, int threads,
+                LineStats *stats, StrokeList **strokes_out, char *err, size_t errlen) {
+  LineStats st;
+  memset(&st, 0, sizeof st);
+  if (strokes_out) *strokes_out = NULL;
+  if (threads < 1) threads = 1;
+  for (int i = 0; i < nobj; i++) st.objects += draws_lines(&objs[i]);
+  if (st.objects == 0 || cam->width < 1 || cam->height < 1) {   /* nothing to draw: no work */
+    if (stats) *stats = st;
+    return 1;
+  }
+  int rw, rh;
+  line_ref_size(objs, nobj, cam, &rw, &rh);
+  if ((long long)rw * rh > LINE_MAX_REF_PIXELS) {
+    snprintf(err, errlen, "reference image %dx%d is over the limit of %lld pixels (LINE_MAX_REF_PIXELS); "
+             "lower ref_scale", rw, rh, (long long)LINE_MAX_REF_PIXELS);
+    return 0;
+  }
+  st.ref_width = rw;
+  st.ref_height = rh;
+  Camera ref_cam = *cam;   /* the same projection; only the pixel grid changes */
+  ref_cam.width = rw;
+  ref_cam.height = rh;
+
+  double t0 = now_seconds();
+  LineEdges edges;
+  line_edges_build(&edges, objs, nobj, &ref_cam);
+  double t1 = now_seconds();
+  LineRef ref;
+  line_ref_build(&ref, &edges, objs, rw, rh, threads);
+  double t2 = now_seconds();
+  LineTrace tr;
+  line_trace_build(&tr, &ref, &edges, threads);
+  double t3 = now_seconds();
+  LinePolys polys;
+  line_link_build(&polys, &ref, &tr, &edges);
+  double t4 = now_seconds();
+  StrokeList *sl = NULL;
+  int ok = stroke_build(&sl, &polys, objs, (double)cam->width / rw, (double)cam->height / rh, err,
+                        errlen);
+  double t5 = now_seconds();
+  if (ok && target) stroke_render(sl, target, threads);
+  double t6 = now_seconds();
+
+  st.important = edges.n;
+  st.visible = ref.nvisible;
+  st.segments = tr.nseg;
+  st.polylines = polys.n;
+  st.strokes = sl ? sl->n : 0;
+  st.t_edges = t1 - t0; st.t_ref = t2 - t1; st.t_trace = t3 - t2;
+  st.t_link = t4 - t3; st.t_build = t5 - t4; st.t_draw = t6 - t5;
+  if (stats) *stats = st;
+  stats_record("lines edges", st.t_edges);
+  stats_record_count("lines edges", "important", st.important);
+  stats_record("lines reference", st.t_ref);
+  stats_record_count("lines reference", "visible", st.visible);
+  stats_record("lines trace", st.t_trace);
+  stats_record_count("lines trace", "segments", st.segments);
+  stats_record("lines link", st.t_link);
+  stats_record_count("lines link", "polylines", st.polylines);
+  stats_record("lines strokes", st.t_build);
+  stats_record_count("lines strokes", "strokes", st.strokes);
+  stats_record("lines draw", st.t_draw);
+  line_polys_free(&polys);
+  line_trace_free(&tr);
+  line_ref_free(&ref);
+  line_edges_free(&edges);
+  if (ok && strokes_out) *strokes_out = sl;
+  else stroke_list_free(sl);
+  return ok;
+}
+
+void line_stats_print(FILE *f, const LineStats *s) {
+  fprintf(f, "lines: %d objects, reference %dx%d\n", s->objects, s->ref_width, s->ref_height);
+  fprintf(f, "lines: edges %d important, %d visible; %d segments, %d polylines, %d strokes\n",
+          s->important, s->visible, s->segments, s->polylines, s->strokes);
+  fprintf(f, "lines: time edges %.2f ms, reference %.2f ms, trace %.2f ms, link %.2f ms, "
+          "strokes %.2f ms, draw %.2f ms, total %.2f ms\n",
+          s->t_edges * 1e3, s->t_ref * 1e3, s->t_trace * 1e3, s->t_link * 1e3, s->t_build * 1e3,
+          s->t_draw * 1e3,
+          (s->t_edges + s->t_ref + s->t_trace + s->t_link + s->t_build + s->t_draw) * 1e3);
+}
+
+int line_frame_objects(const RenderFrame *f, LineObject **out) {
+  LineObject *o = xcalloc((size_t)f->nobjects + 1, sizeof *o);
+  for (int i = 0; i < f->nobjects; i++) {
+    const RenderObject *ro = &f->objects[i];
+    o[i].mesh = ro->mesh;
+    o[i].object_to_world = ro->object_to_world;
+    o[i].lines = ro->style && ro->style->src ? &ro->style->src->lines : NULL;
+    o[i].id = i;
+    if (ro->style) o[i].fill = (Color){ro->style->base[0], ro->style->base[1], ro->style->base[2], 1};
+  }
+  *out = o;
+  return f->nobjects;
+}
+
+/* lines->texture as a path relative to the folder of the scene file that
+** wrote it (as mesh("file") is), into out; the built-in names stay. */
+static const char *texture_path(const SceneLines *ls, char *out, size_t n) {
+  const char *t = ls->texture;
+  if (!t || !strcmp(t, "ink") || !strcmp(t, "solid") || t[0] == '/') return t;
+  const SrcFile *f = ls->loc.file >= 0 ? diag_file(ls->loc.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  if (!slash) return t;
+  snprintf(out, n, "%.*s/%s", (int)(slash - f->name), f->name, t);
+  return out;
+}
+
+int line_render_frame(const RenderFrame *f, int threads, Image *target, StrokeList **strokes_out,
+                      LineStats *stats) {
+  LineObject *objs;
+  int n = line_frame_objects(f, &objs);
+  SceneLines *ls = xcalloc((size_t)n + 1, sizeof *ls);    /* with resolved texture paths */
+  char (*paths)[1024] = xcalloc((size_t)n + 1, sizeof *paths);
+  for (int i = 0; i < n; i++)
+    if (objs[i].lines) {
+      ls[i] = *objs[i].lines;
+      ls[i].texture = texture_path(objs[i].lines, paths[i], sizeof paths[i]);
+      objs[i].lines = &ls[i];
+    }
+  char err[1200];
+  int ok = line_render(objs, n, &f->camera, target, threads, stats, strokes_out, err, sizeof err);
+  if (!ok) {
+    SrcRange at = src_none();
+    for (int i = 0; i < n; i++)
+      if (objs[i].lines && objs[i].lines->present) { at = objs[i].lines->loc; break; }
+    diag_error(at, "%s", err);
+  }
+  free(objs);
+  free(ls);
+  free(paths);
+  return ok;
+}

@@ -1,0 +1,634 @@
+/*
+** Rendering flat origami (Mitani §5): the face-ID buffer by scanline, and
+** the line, illustration and shaded modes over it. See origami.h.
+*/
+#include "origami.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+
+/* Sub-pixel bits of the rasterizer's fixed-point coordinates, and the
+** largest |coordinate| in pixels kept exact (products stay in int64). */
+#define SUBPIX_BITS 8
+#define SUBPIX (1 << SUBPIX_BITS)
+#define MAX_COORD 1048576.0
+
+/* ---- colour ------------------------------------------------------------ */
+
+static float srgb_to_linear(float c) {
+  if (c <= 0) return 0;
+  if (c >= 1) return c == 1 ? 1 : powf(c, 2.4f);   /* > 1 stays monotone */
+  return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* Display -> linear through a table (powf per channel per pixel was most
+** of a frame): 4096 steps over [0, 1], linear in between. */
+#define SRGB_LUT 4096
+static float srgb_lut[SRGB_LUT + 2];
+
+static void srgb_lut_init(void) {
+  if (srgb_lut[SRGB_LUT] == 1) return;
+  for (int i = 0; i <= SRGB_LUT; i++) srgb_lut[i] = srgb_to_linear((float)i / SRGB_LUT);
+  srgb_lut[SRGB_LUT + 1] = 1;
+}
+
+static float display_to_linear(float c) {
+  if (!(c > 0)) return 0;
+  if (c >= 1) return srgb_to_linear(c);
+  float x = c * SRGB_LUT;
+  int i = (int)x;
+  return srgb_lut[i] + (x - (float)i) * (srgb_lut[i + 1] - srgb_lut[i]);
+}
+
+static float linear_to_srgb(float c) {
+  if (c <= 0) return 0;
+  if (c >= 1) return 1;
+  return c <= 0.0031308f ? c * 12.92f : 1.055f * powf(c, 1 / 2.4f) - 0.055f;
+}
+
+/* ---- projection -------------------------------------------------------- */
+
+/* A folded vertex on the screen: pixel position (y down), window depth,
+** 1/w, and whether it lies in front of the camera. */
+typedef struct ScreenVert { double x, y, depth, invw; int ok; } ScreenVert;
+
+static ScreenVert project(const Mat4 *c, Vec2 p, int width, int height) {
+  const double(*m)[4] = c->m;
+  double cx = m[0][0] * p.x + m[0][1] * p.y + m[0][3];
+  double cy = m[1][0] * p.x + m[1][1] * p.y + m[1][3];
+  double cz = m[2][0] * p.x + m[2][1] * p.y + m[2][3];
+  double cw = m[3][0] * p.x + m[3][1] * p.y + m[3][3];
+  ScreenVert s = {0, 0, 0, 0, cw > 1e-12};
+  if (!s.ok) return s;
+  s.invw = 1 / cw;
+  s.x = (cx * s.invw + 1) * 0.5 * width;                     /* camera.h: pixel x */
+  s.y = (1 - cy * s.invw) * 0.5 * height;                    /* y runs down */
+  s.depth = (cz * s.invw + 1) * 0.5;
+  return s;
+}
+
+/* Whether the camera sees the block's -z side: the block's x and y axes
+** turn the other way on the screen (whose y runs down). */
+static int seen_from_below(const Mat4 *c, Vec2 centre, int width, int height) {
+  ScreenVert o = project(c, centre, width, height);
+  ScreenVert ex = project(c, (Vec2){centre.x + 1, centre.y}, width, height);
+  ScreenVert ey = project(c, (Vec2){centre.x, centre.y + 1}, width, height);
+  double area = (ex.x - o.x) * (ey.y - o.y) - (ex.y - o.y) * (ey.x - o.x);
+  return area > 0;                                           /* +z toward us gives area < 0 */
+}
+
+typedef struct Ctx {
+  const OrigamiModel *m;
+  int width, height;
+  ScreenVert *sv;            /* per vertex */
+  int from_below;
+  int32_t *fid, *tid;        /* face and triangle at each pixel, -1 empty */
+  const float *depth;        /* external depth to test against, or NULL */
+} Ctx;
+
+static void ctx_project(Ctx *c, const Mat4 *object_to_clip) {
+  const OrigamiModel *m = c->m;
+  c->sv = xmalloc((size_t)(m->nverts ? m->nverts : 1) * sizeof *c->sv);
+  for (int v = 0; v < m->nverts; v++) c->sv[v] = project(object_to_clip, m->folded[v], c->width, c->height);
+  Vec2 centre = {(m->fold_min.x + m->fold_max.x) / 2, (m->fold_min.y + m->fold_max.y) / 2};
+  c->from_below = seen_from_below(object_to_clip, centre, c->width, c->height);
+}
+
+/* Face i lies over face j for this viewer. */
+static int over(const Ctx *c, int i, int j) {
+  return c->from_below ? origami_is_above(c->m, j, i) : origami_is_above(c->m, i, j);
+}
+
+/* ---- the face-ID buffer: scanline with exact fixed-point edges ---------- */
+
+static int64_t fixed(double v) {
+  if (v > MAX_COORD) v = MAX_COORD;
+  if (v < -MAX_COORD) v = -MAX_COORD;
+  return (int64_t)llround(v * SUBPIX);
+}
+
+static int64_t floor_div(int64_t a, int64_t b) {             /* b > 0 */
+  int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+/* Window depth of triangle t at pixel centre (px, py), affine in the screen. */
+static double tri_depth(const Ctx *c, int t, double px, double py) {
+  const int *v = c->m->tri[t];
+  ScreenVert a = c->sv[v[0]], b = c->sv[v[1]], d = c->sv[v[2]];
+  double den = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+  if (den == 0) return a.depth;
+  double l1 = ((px - a.x) * (d.y - a.y) - (py - a.y) * (d.x - a.x)) / den;
+  double l2 = ((b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)) / den;
+  return a.depth + l1 * (b.depth - a.depth) + l2 * (d.depth - a.depth);
+}
+
+/* Scan-convert triangle t of face f: pixel centres inside (top-left rule
+** on shared edges, so no pixel is drawn twice by one face). */
+static void raster_tri(Ctx *c, int t, int f) {
+  const int *vi = c->m->tri[t];
+  ScreenVert s0 = c->sv[vi[0]], s1 = c->sv[vi[1]], s2 = c->sv[vi[2]];
+  if (!s0.ok || !s1.ok || !s2.ok) return;                    /* behind the camera: not drawn */
+  int64_t x[3] = {fixed(s0.x), fixed(s1.x), fixed(s2.x)}, y[3] = {fixed(s0.y), fixed(s1.y), fixed(s2.y)};
+  int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  if (area == 0) return;
+  if (area < 0) {                                            /* make it positive */
+    int64_t tx = x[1], ty = y[1];
+    x[1] = x[2], y[1] = y[2], x[2] = tx, y[2] = ty;
+  }
+  int64_t ymin = y[0], ymax = y[0];
+  for (int k = 1; k < 3; k++) ymin = ymin < y[k] ? ymin : y[k], ymax = ymax > y[k] ? ymax : y[k];
+  int row0 = (int)floor_div(ymin, SUBPIX), row1 = (int)floor_div(ymax, SUBPIX);
+  if (row0 < 0) row0 = 0;
+  if (row1 > c->height - 1) row1 = c->height - 1;
+  for (int row = row0; row <= row1; row++) {
+    int64_t py = (int64_t)row * SUBPIX + SUBPIX / 2;
+    int64_t lo = 0, hi = c->width - 1;
+    for (int e = 0; e < 3 && lo <= hi; e++) {
+      int a = e, b = (e + 1) % 3;
+      int64_t dx = x[b] - x[a], dy = y[b] - y[a];
+      /* inside: E = dx (py - ya) - dy (px - xa) >= 0, or > 0 off a top-left edge */
+      int64_t bias = (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1;
+      int64_t alpha = -dy * SUBPIX;                          /* E per pixel step in x */
+      int64_t beta = dx * (py - y[a]) - dy * (SUBPIX / 2 - x[a]) + bias;   /* E at x = 0, biased */
+      if (alpha > 0) {                                       /* x >= -beta / alpha */
+        int64_t xm = -floor_div(beta, alpha);
+        if (xm > lo) lo = xm;
+      } else if (alpha < 0) {                                /* x <= beta / -alpha */
+        int64_t xm = floor_div(beta, -alpha);
+        if (xm < hi) hi = xm;
+      } else if (beta < 0) lo = hi + 1;
+    }
+    int32_t *fr = c->fid + (size_t)row * c->width, *tr = c->tid + (size_t)row * c->width;
+    for (int64_t px = lo; px <= hi; px++) {
+      int32_t cur = fr[px];
+      if (cur >= 0 && (cur == f || !over(c, f, cur))) continue;   /* §5.1: only over a lower face */
+      if (c->depth) {
+        size_t p = (size_t)row * c->width + (size_t)px;
+        if (!(tri_depth(c, t, px + 0.5, row + 0.5) < c->depth[p])) continue;
+      }
+      fr[px] = f;
+      tr[px] = t;
+    }
+  }
+}
+
+static void raster_ids(Ctx *c, const int *order) {
+  const OrigamiModel *m = c->m;
+  size_t n = (size_t)c->width * (size_t)c->height;
+  for (size_t p = 0; p < n; p++) c->fid[p] = c->tid[p] = -1;
+  int *first = xcalloc((size_t)m->nfaces + 1, sizeof *first);   /* triangles by face */
+  for (int t = 0; t < m->ntris; t++) first[m->tri_face[t] + 1]++;
+  for (int f = 0; f < m->nfaces; f++) first[f + 1] += first[f];
+  for (int k = 0; k < m->nfaces; k++) {
+    int f = order ? order[k] : k;
+    for (int t = first[f]; t < first[f + 1]; t++) raster_tri(c, t, f);   /* tri_face is sorted */
+  }
+  free(first);
+}
+
+void origami_render_ids(const OrigamiModel *m, const Mat4 *object_to_clip, int width, int height,
+                        const int *order, int32_t *ids) {
+  Ctx c = {.m = m, .width = width, .height = height, .fid = ids};
+  c.tid = xmalloc((size_t)width * (size_t)height * sizeof *c.tid);
+  ctx_project(&c, object_to_clip);
+  raster_ids(&c, order);
+  free(c.tid);
+  free(c.sv);
+}
+
+/* ---- illustration: brightness at face corners --------------------------- */
+
+double origami_corner_brightness(const OrigamiModel *m, int f, int k, int from_below) {
+  int s = m->face_start[f], n = m->face_start[f + 1] - s;
+  int ce[2] = {m->face_crease[s + (k + n - 1) % n], m->face_crease[s + k]};   /* edges into and out of k */
+  int nm = 0, nv = 0;
+  for (int e = 0; e < 2; e++) {
+    char a = ce[e] >= 0 ? m->creases[ce[e]].assignment : 0;
+    nm += a == 'M', nv += a == 'V';
+  }
+  if (m->flipped[f] != from_below) {                         /* the back side: M and V swap */
+    int tmp = nm;
+    nm = nv;
+    nv = tmp;
+  }
+  return (nm - nv + 2) / 4.0;
+}
+
+typedef struct Shading {
+  int mode;                  /* 0 line, 1 illustration, 2 shaded */
+  float color[3];            /* display values */
+  double w[3];
+  double radius;             /* buffer pixels */
+  int lines;                 /* draw Sobel lines */
+  float line_color[3];       /* linear */
+  float line_opacity;
+  double line_width;         /* buffer pixels */
+} Shading;
+
+static Shading shading_of(const SceneStyle *style, double pixel_scale) {
+  Shading s = {1, {1.0f, 1.0f, 0.95f}, {0.675, 0.225, 0.15}, ORIGAMI_DEFAULT_RADIUS, 0,
+               {0.0078f, 0.0078f, 0.0078f}, 1, 2};         /* ink #141414, 2 px */
+  if (style && style->shade.kind == SHADE_ORIGAMI) {
+    const SceneShade *sh = &style->shade;
+    s.mode = sh->origami_mode;
+    Color c = sh->origami_color;
+    if (c.r != 0 || c.g != 0 || c.b != 0) s.color[0] = c.r, s.color[1] = c.g, s.color[2] = c.b;
+    if (sh->origami_weights[0] != 0 || sh->origami_weights[1] != 0 || sh->origami_weights[2] != 0)
+      memcpy(s.w, sh->origami_weights, sizeof s.w);
+    if (sh->origami_radius > 0) s.radius = sh->origami_radius;
+  }
+  if (style && style->lines.present) {
+    s.lines = style->lines.kinds != 0;   /* flat: every visible face edge outlines a layer */
+    s.line_color[0] = style->lines.color.r, s.line_color[1] = style->lines.color.g;
+    s.line_color[2] = style->lines.color.b;
+    s.line_opacity = (float)style->lines.opacity;
+    if (style->lines.width > 0) s.line_width = style->lines.width;
+  }
+  if (s.mode == 0) s.lines = 1;
+  s.radius *= pixel_scale > 0 ? pixel_scale : 1;
+  s.line_width *= pixel_scale > 0 ? pixel_scale : 1;
+  if (s.radius > ORIGAMI_MAX_RADIUS) s.radius = ORIGAMI_MAX_RADIUS;
+  return s;
+}
+
+/* B' at every triangle corner: B' = min(1, wa B + wb R + wc), R from the
+** face's screen bounding box (upper-left corner, y down). */
+static float (*corner_values(const Ctx *c, const Shading *s))[3] {
+  const OrigamiModel *m = c->m;
+  float (*bt)[3] = xmalloc((size_t)(m->ntris ? m->ntris : 1) * sizeof *bt);
+  double *bp = xmalloc((size_t)(m->face_start[m->nfaces] + 1) * sizeof *bp);
+  for (int f = 0; f < m->nfaces; f++) {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int k = m->face_start[f]; k < m->face_start[f + 1]; k++) {
+      ScreenVert v = c->sv[m->face_index[k]];
+      x0 = fmin(x0, v.x), y0 = fmin(y0, v.y), x1 = fmax(x1, v.x), y1 = fmax(y1, v.y);
+    }
+    double diag = hypot(x1 - x0, y1 - y0);
+    for (int k = m->face_start[f]; k < m->face_start[f + 1]; k++) {
+      ScreenVert v = c->sv[m->face_index[k]];
+      double r = diag > 0 ? hypot(v.x - x0, v.y - y0) / diag : 0;
+      double b = origami_corner_brightness(m, f, k - m->face_start[f], c->from_below);
+      bp[k] = fmin(1.0, s->w[0] * b + s->w[1] * r + s->w[2]);
+    }
+  }
+  for (int t = 0; t < m->ntris; t++) {
+    int f = m->tri_face[t];
+    for (int i = 0; i < 3; i++) {
+      bt[t][i] = 1;
+      for (int k = m->face_start[f]; k < m->face_start[f + 1]; k++)
+        if (m->face_index[k] == m->tri[t][i]) { bt[t][i] = (float)bp[k]; break; }
+    }
+  }
+  free(bp);
+  return bt;
+}
+
+/* ---- shaded: pseudo ambient occlusion ------------------------------------- */
+
+typedef struct FaceBox { int x0, y0, x1, y1; } FaceBox;
+
+/* The box of the pixels each face shows at (x1 < 0: it shows nowhere). */
+static FaceBox *visible_boxes(const Ctx *c) {
+  int w = c->width, h = c->height;
+  FaceBox *box = xmalloc((size_t)(c->m->nfaces ? c->m->nfaces : 1) * sizeof *box);
+  for (int f = 0; f < c->m->nfaces; f++) box[f] = (FaceBox){w, h, -1, -1};
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      int f = c->fid[(size_t)y * w + x];
+      if (f < 0) continue;
+      FaceBox *b = &box[f];
+      if (x < b->x0) b->x0 = x;
+      if (x > b->x1) b->x1 = x;
+      if (y < b->y0) b->y0 = y;
+      if (y > b->y1) b->y1 = y;
+    }
+  return box;
+}
+
+/* A summed-area table over box (w x h pixels from (x0, y0)) of "the face
+** shown here lies over f": sat[(y + 1) * (w + 1) + x + 1] counts those in
+** [x0, x0 + x] x [y0, y0 + y]. Returns the total. */
+static int32_t cover_table(const Ctx *c, int f, FaceBox box, int32_t *sat) {
+  int bw = box.x1 - box.x0 + 1, bh = box.y1 - box.y0 + 1, sw = bw + 1;
+  memset(sat, 0, (size_t)sw * sizeof *sat);
+  for (int y = 0; y < bh; y++) {
+    const int32_t *row = c->fid + (size_t)(box.y0 + y) * c->width + box.x0;
+    int32_t *s = sat + (size_t)(y + 1) * sw, *up = s - sw, acc = 0;
+    s[0] = 0;
+    for (int x = 0; x < bw; x++) {
+      int g = row[x];
+      acc += g >= 0 && g != f && over(c, g, f);
+      s[x + 1] = up[x + 1] + acc;
+    }
+  }
+  return sat[(size_t)bh * sw + bw];
+}
+
+/* The disk of radius r (row half-widths hw[dy + r]) around table point
+** (lx, ly): covered pixels, O(r) with one row segment a disk row, after an
+** O(1) test of the disk's bounding square. */
+static long disk_sum(const int32_t *sat, int bw, int bh, int lx, int ly, int r, const int *hw) {
+  int sw = bw + 1;
+  int qx0 = lx - r < 0 ? 0 : lx - r, qx1 = lx + r >= bw ? bw - 1 : lx + r;
+  int qy0 = ly - r < 0 ? 0 : ly - r, qy1 = ly + r >= bh ? bh - 1 : ly + r;
+  int32_t sq = sat[(size_t)(qy1 + 1) * sw + qx1 + 1] - sat[(size_t)qy0 * sw + qx1 + 1] -
+               sat[(size_t)(qy1 + 1) * sw + qx0] + sat[(size_t)qy0 * sw + qx0];
+  if (sq == 0) return 0;                                     /* the square is clear */
+  long s = 0;
+  for (int yy = qy0; yy <= qy1; yy++) {
+    int half = hw[yy - ly + r];
+    int a = lx - half < 0 ? 0 : lx - half, e = lx + half >= bw ? bw - 1 : lx + half;
+    const int32_t *lo = sat + (size_t)yy * sw, *hi = lo + sw;
+    s += (hi[e + 1] - lo[e + 1]) - (hi[a] - lo[a]);
+  }
+  return s;
+}
+
+/* I = 1 - s/S at every pixel of the origami (1 elsewhere), into occ: per
+** visible face, a table of "covered by a face above me" over its box grown
+** by the radius, then the disk sums at its pixels. */
+static void occlusion(const Ctx *c, double radius, float *occ) {
+  int w = c->width, h = c->height, r = (int)lround(radius);
+  for (size_t p = 0; p < (size_t)w * (size_t)h; p++) occ[p] = 1;
+  if (r < 1) return;
+  int *hw = xmalloc((size_t)(2 * r + 1) * sizeof *hw);       /* disk half-widths by row */
+  long disk = 0;
+  for (int dy = -r; dy <= r; dy++) {
+    hw[dy + r] = (int)floor(sqrt(radius * radius - (double)dy * dy) + 1e-9);
+    disk += 2 * hw[dy + r] + 1;
+  }
+  FaceBox *box = visible_boxes(c);
+  int32_t *sat = NULL;
+  size_t satcap = 0;
+  for (int f = 0; f < c->m->nfaces; f++) {
+    FaceBox b = box[f];
+    if (b.x1 < 0) continue;
+    FaceBox g = {b.x0 - r < 0 ? 0 : b.x0 - r, b.y0 - r < 0 ? 0 : b.y0 - r,
+                 b.x1 + r >= w ? w - 1 : b.x1 + r, b.y1 + r >= h ? h - 1 : b.y1 + r};
+    int bw = g.x1 - g.x0 + 1, bh = g.y1 - g.y0 + 1;
+    size_t need = (size_t)(bw + 1) * (size_t)(bh + 1);
+    if (need > satcap) sat = xrealloc(sat, (satcap = need) * sizeof *sat);
+    if (cover_table(c, f, g, sat) == 0) continue;           /* nothing above f nearby */
+    for (int y = b.y0; y <= b.y1; y++)
+      for (int x = b.x0; x <= b.x1; x++) {
+        size_t p = (size_t)y * w + x;
+        if (c->fid[p] != f) continue;
+        long s = disk_sum(sat, bw, bh, x - g.x0, y - g.y0, r, hw);
+        if (s) occ[p] = 1.0f - (float)s / (float)disk;
+      }
+  }
+  free(sat);
+  free(box);
+  free(hw);
+}
+
+/* ---- line: Sobel on the face IDs ------------------------------------------ */
+
+/* A face id spread over 20 bits, so that Sobel's weighted sums of
+** different ids do not cancel (any id change is an edge). */
+static int32_t id_code(int32_t id) { return (int32_t)(((uint32_t)(id + 2) * 2654435761u) >> 12); }
+
+/* Grow the marked pixels of mask by r in x, then in y (a square of side
+** 2r + 1), with running counts: O(1) a pixel. */
+static void dilate(unsigned char *mask, int w, int h, int r) {
+  unsigned char *tmp = xmalloc((size_t)w * (size_t)h);
+  for (int pass = 0; pass < 2; pass++) {
+    int len = pass ? h : w, lines = pass ? w : h;
+    size_t step = pass ? (size_t)w : 1, next = pass ? 1 : (size_t)w;
+    unsigned char *src = pass ? tmp : mask, *dst = pass ? mask : tmp;
+    for (int l = 0; l < lines; l++) {
+      const unsigned char *in = src + (size_t)l * next;
+      unsigned char *out = dst + (size_t)l * next;
+      int count = 0;
+      for (int i = 0; i < r && i < len; i++) count += in[(size_t)i * step];
+      for (int i = 0; i < len; i++) {
+        if (i + r < len) count += in[(size_t)(i + r) * step];
+        if (i - r - 1 >= 0) count -= in[(size_t)(i - r - 1) * step];
+        out[(size_t)i * step] = count > 0;
+      }
+    }
+  }
+  free(tmp);
+}
+
+/* Draw the Sobel edges of the face-ID buffer (both sides of each change,
+** about 2 pixels; wider lines grow them). */
+static void sobel_lines(const Ctx *c, const Shading *s, float *rgba) {
+  int w = c->width, h = c->height;
+  int32_t *code = xmalloc((size_t)(w + 2) * (size_t)(h + 2) * sizeof *code);   /* clamped border */
+  unsigned char *mask = xmalloc((size_t)w * (size_t)h);
+  int cw = w + 2;
+  for (int y = -1; y <= h; y++) {
+    int yy = y < 0 ? 0 : y >= h ? h - 1 : y;
+    for (int x = -1; x <= w; x++) {
+      int xx = x < 0 ? 0 : x >= w ? w - 1 : x;
+      code[(size_t)(y + 1) * cw + (x + 1)] = id_code(c->fid[(size_t)yy * w + xx]);
+    }
+  }
+  for (int y = 0; y < h; y++) {
+    const int32_t *r0 = code + (size_t)y * cw, *r1 = r0 + cw, *r2 = r1 + cw;
+    unsigned char *mr = mask + (size_t)y * w;
+    for (int x = 0; x < w; x++) {
+      int64_t gx = (int64_t)r0[x + 2] + 2 * (int64_t)r1[x + 2] + r2[x + 2] - r0[x] - 2 * (int64_t)r1[x] - r2[x];
+      int64_t gy = (int64_t)r2[x] + 2 * (int64_t)r2[x + 1] + r2[x + 2] - r0[x] - 2 * (int64_t)r0[x + 1] - r0[x + 2];
+      mr[x] = gx != 0 || gy != 0;
+    }
+  }
+  int grow = (int)lround((s->line_width - 2) / 2);
+  if (grow > 0) dilate(mask, w, h, grow);
+  float a = s->line_opacity;
+  for (size_t p = 0; p < (size_t)w * (size_t)h; p++) {
+    if (!mask[p]) continue;
+    float *o = rgba + p * 4;
+    for (int ch = 0; ch < 3; ch++) o[ch] = o[ch] * (1 - a) + s->line_color[ch] * a;
+    o[3] = o[3] * (1 - a) + a;
+  }
+  free(mask);
+  free(code);
+}
+
+/* ---- shading ------------------------------------------------------------- */
+
+static void sample_texture(const Image *img, double u, double v, float out[3]) {
+  double fx = u * img->width - 0.5, fy = (1 - v) * img->height - 0.5;   /* paper +y is up */
+  int x0 = (int)floor(fx), y0 = (int)floor(fy);
+  double ax = fx - x0, ay = fy - y0;
+  int nc = img->channels;
+  for (int ch = 0; ch < 3; ch++) {
+    double acc = 0;
+    for (int j = 0; j < 2; j++)
+      for (int i = 0; i < 2; i++) {
+        int x = x0 + i < 0 ? 0 : x0 + i >= img->width ? img->width - 1 : x0 + i;
+        int y = y0 + j < 0 ? 0 : y0 + j >= img->height ? img->height - 1 : y0 + j;
+        const float *px = img->data + ((size_t)y * img->width + x) * nc;
+        acc += (i ? ax : 1 - ax) * (j ? ay : 1 - ay) * px[nc >= 3 ? ch : 0];
+      }
+    out[ch] = (float)acc;
+  }
+}
+
+/* Per triangle: screen barycentrics l1, l2 = C (p - a), and the corners'
+** 1/w and depths, for perspective-correct attributes. */
+typedef struct TriSetup { float ax, ay, c[4], invw[3], depth[3]; } TriSetup;
+
+static TriSetup *tri_setup(const Ctx *c) {
+  const OrigamiModel *m = c->m;
+  TriSetup *ts = xmalloc((size_t)(m->ntris ? m->ntris : 1) * sizeof *ts);
+  for (int t = 0; t < m->ntris; t++) {
+    ScreenVert a = c->sv[m->tri[t][0]], b = c->sv[m->tri[t][1]], d = c->sv[m->tri[t][2]];
+    double den = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x), k = den ? 1 / den : 0;
+    TriSetup *s = &ts[t];
+    s->ax = (float)a.x, s->ay = (float)a.y;
+    s->c[0] = (float)((d.y - a.y) * k), s->c[1] = (float)(-(d.x - a.x) * k);   /* l1 */
+    s->c[2] = (float)(-(b.y - a.y) * k), s->c[3] = (float)((b.x - a.x) * k);   /* l2 */
+    s->invw[0] = (float)a.invw, s->invw[1] = (float)b.invw, s->invw[2] = (float)d.invw;
+    s->depth[0] = (float)a.depth, s->depth[1] = (float)b.depth, s->depth[2] = (float)d.depth;
+  }
+  return ts;
+}
+
+/* Perspective-correct barycentrics of pixel centre (px, py) in triangle s,
+** and the screen-linear depth. */
+static void tri_bary(const TriSetup *s, float px, float py, float b[3], float *depth) {
+  float dx = px - s->ax, dy = py - s->ay;
+  float l1 = s->c[0] * dx + s->c[1] * dy, l2 = s->c[2] * dx + s->c[3] * dy, l0 = 1 - l1 - l2;
+  *depth = l0 * s->depth[0] + l1 * s->depth[1] + l2 * s->depth[2];
+  float w0 = l0 * s->invw[0], w1 = l1 * s->invw[1], w2 = l2 * s->invw[2], sum = w0 + w1 + w2;
+  if (sum == 0) sum = 1;
+  b[0] = w0 / sum, b[1] = w1 / sum, b[2] = w2 / sum;
+}
+
+/* What colouring a pixel needs, set up once a frame. */
+typedef struct Paint {
+  const Shading *s;
+  float (*bt)[3];            /* B' at triangle corners (illustration, shaded) */
+  const float *occ;          /* I per pixel (shaded) */
+  TriSetup *ts;
+  const Image *texture;
+  double px0, py0, pw, ph;   /* the paper's box, for the texture */
+  float flat[3];             /* line mode: one linear colour */
+} Paint;
+
+static void paint_setup(Paint *pt, const Ctx *c) {
+  const OrigamiModel *m = c->m;
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (int v = 0; v < m->nverts; v++) {
+    x0 = fmin(x0, m->paper[v].x), y0 = fmin(y0, m->paper[v].y);
+    x1 = fmax(x1, m->paper[v].x), y1 = fmax(y1, m->paper[v].y);
+  }
+  pt->px0 = x0, pt->py0 = y0;
+  pt->pw = x1 > x0 ? x1 - x0 : 1, pt->ph = y1 > y0 ? y1 - y0 : 1;
+  pt->ts = tri_setup(c);
+  for (int ch = 0; ch < 3; ch++) pt->flat[ch] = display_to_linear(pt->s->color[ch]);
+}
+
+/* Colour pixel (x, y), showing face f through triangle tri. */
+static void paint_pixel(const Paint *pt, const Ctx *c, int x, int y, OrigamiTarget *t) {
+  size_t p = (size_t)y * c->width + x;
+  int f = c->fid[p], tri = c->tid[p];
+  float *o = t->rgba + p * 4;
+  o[3] = 1;
+  if (t->face_id) t->face_id[p] = f;
+  if (!pt->bt && !pt->texture && !t->depth) {
+    o[0] = pt->flat[0], o[1] = pt->flat[1], o[2] = pt->flat[2];
+    return;
+  }
+  float b[3], depth;
+  tri_bary(&pt->ts[tri], x + 0.5f, y + 0.5f, b, &depth);
+  if (t->depth) t->depth[p] = depth;
+  const float *col = pt->s->color;
+  float base[3] = {col[0], col[1], col[2]};                  /* display values */
+  if (pt->texture && c->m->flipped[f] == c->from_below) {    /* the front shows: the texture */
+    double u = 0, v = 0;
+    for (int i = 0; i < 3; i++) {
+      Vec2 q = c->m->paper[c->m->tri[tri][i]];
+      u += b[i] * (q.x - pt->px0) / pt->pw, v += b[i] * (q.y - pt->py0) / pt->ph;
+    }
+    float tc[3];
+    sample_texture(pt->texture, u, v, tc);
+    for (int ch = 0; ch < 3; ch++) base[ch] = linear_to_srgb(tc[ch]);
+  }
+  float k = 1;                                               /* display-space brightness */
+  if (pt->bt) k = b[0] * pt->bt[tri][0] + b[1] * pt->bt[tri][1] + b[2] * pt->bt[tri][2];
+  if (pt->occ) k *= pt->occ[p];
+  for (int ch = 0; ch < 3; ch++) o[ch] = display_to_linear(k * base[ch]);
+}
+
+long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *object_to_clip,
+                    const Image *texture, OrigamiTarget *t) {
+  int w = t->width, h = t->height;
+  size_t n = (size_t)w * (size_t)h;
+  Ctx c = {.m = m, .width = w, .height = h, .depth = t->depth};
+  c.fid = xmalloc(n * sizeof *c.fid);
+  c.tid = xmalloc(n * sizeof *c.tid);
+  ctx_project(&c, object_to_clip);
+  raster_ids(&c, NULL);                                      /* §5.1 */
+  Shading s = shading_of(style, t->pixel_scale);
+  srgb_lut_init();
+  Paint pt = {.s = &s, .texture = texture};
+  pt.bt = s.mode > 0 ? corner_values(&c, &s) : NULL;         /* §5.3 */
+  float *occ = NULL;
+  if (s.mode == 2) {                                         /* §5.4 */
+    occ = xmalloc(n * sizeof *occ);
+    occlusion(&c, s.radius, occ);
+  }
+  pt.occ = occ;
+  paint_setup(&pt, &c);
+  long covered = 0;
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++)
+      if (c.fid[(size_t)y * w + x] >= 0) {
+        paint_pixel(&pt, &c, x, y, t);
+        covered++;
+      }
+  if (s.lines) sobel_lines(&c, &s, t->rgba);                 /* §5.2 */
+  free(pt.ts);
+  free(occ);
+  free(pt.bt);
+  free(c.sv);
+  free(c.tid);
+  free(c.fid);
+  return covered;
+}
+
+void origami_world_bounds(const OrigamiModel *m, const Mat4 *transform, Vec3 *bmin, Vec3 *bmax) {
+  *bmin = v3(INFINITY, INFINITY, INFINITY);
+  *bmax = v3(-INFINITY, -INFINITY, -INFINITY);
+  for (int k = 0; k < 4; k++) {
+    Vec3 p = v3(k & 1 ? m->fold_max.x : m->fold_min.x, k & 2 ? m->fold_max.y : m->fold_min.y, 0);
+    Vec3 q = m4_point(*transform, p);
+    *bmin = v3(fmin(bmin->x, q.x), fmin(bmin->y, q.y), fmin(bmin->z, q.z));
+    *bmax = v3(fmax(bmax->x, q.x), fmax(bmax->y, q.y), fmax(bmax->z, q.z));
+  }
+}
+
+int origami_draw_scene(const Scene *s, const Mat4 *world_to_clip, OrigamiTarget *t) {
+  int ok = 1;
+  SceneStyle fallback = scene_default_style();
+  for (int i = 0; i < s->norigami; i++) {
+    const SceneOrigami *o = &s->origami[i];
+    OrigamiModel *m = origami_build(o, 0);
+    if (!m) { ok = 0; continue; }
+    const SceneStyle *style = o->style >= 0 && o->style < s->nstyles ? &s->styles[o->style] : &fallback;
+    Image *tex = NULL;
+    const char *path = style->shade.kind == SHADE_ORIGAMI ? style->shade.origami_texture : NULL;
+    if (path) {
+      char err[512];
+      if (!image_read(path, &tex, err, sizeof err)) {
+        diag_error(style->shade.loc.file >= 0 ? style->shade.loc : o->loc,
+                   "cannot read the paper texture `%s`: %s", path, err);
+        ok = 0;
+        tex = NULL;
+      }
+    }
+    Mat4 object_to_clip = m4_mul(*world_to_clip, o->transform);
+    origami_render(m, style, &object_to_clip, tex, t);
+    image_destroy(tex);
+    origami_free(m);
+  }
+  return ok;
+}

@@ -1,0 +1,285 @@
+/*
+** Triangle rasterizer (raster.h): clipping in homogeneous coordinates,
+** fixed-point triangle setup with the top-left fill rule, and the one loop
+** that scan-converts a triangle into G-buffer planes.
+*/
+#include "raster.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "../base/mem.h"
+
+#define SUB (1 << RAST_SUBPIXEL_BITS)   /* fixed-point units a pixel */
+
+/* A clip-space vertex with the source barycentrics it carries. */
+typedef struct ClipVert {
+  double h[4];    /* x, y, z, w */
+  double b[2];    /* b1, b2 in the source triangle */
+} ClipVert;
+
+/* ---- clipping ------------------------------------------------------------ */
+
+/* The six planes a vertex must be on the inside of, as signed distances:
+** near z >= -w, far z <= w, and the guard band |x| <= gx w, |y| <= gy w. */
+enum { NPLANES = 6, MAXPOLY = 3 + NPLANES };
+
+static double plane_dist(const ClipVert *v, int plane, double gx, double gy) {
+  const double *h = v->h;
+  switch (plane) {
+  case 0: return h[2] + h[3];
+  case 1: return h[3] - h[2];
+  case 2: return gx * h[3] + h[0];
+  case 3: return gx * h[3] - h[0];
+  case 4: return gy * h[3] + h[1];
+  default: return gy * h[3] - h[1];
+  }
+}
+
+static unsigned outcode(const ClipVert *v, double gx, double gy) {
+  unsigned code = 0;
+  for (int p = 0; p < NPLANES; p++)
+    if (plane_dist(v, p, gx, gy) < 0) code |= 1u << p;
+  return code;
+}
+
+/* The point where the edge from inside vertex a (distance da >= 0) to
+** outside vertex b (db < 0) crosses the plane. Always computed from the
+** inside end, so two triangles sharing the edge get bit-identical points. */
+static ClipVert crossing(const ClipVert *in, double din, const ClipVert *out, double dout) {
+  double t = din / (din - dout);
+  ClipVert r;
+  for (int k = 0; k < 4; k++) r.h[k] = in->h[k] + t * (out->h[k] - in->h[k]);
+  for (int k = 0; k < 2; k++) r.b[k] = in->b[k] + t * (out->b[k] - in->b[k]);
+  return r;
+}
+
+/* Sutherland-Hodgman against each plane the polygon crosses; returns the
+** vertex count of the clipped polygon (0 when nothing is left). */
+static int clip_polygon(ClipVert *poly, int n, unsigned planes, double gx, double gy) {
+  ClipVert tmp[MAXPOLY];
+  for (int p = 0; p < NPLANES && n > 0; p++) {
+    if (!(planes & (1u << p))) continue;
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+      const ClipVert *a = &poly[i], *b = &poly[(i + 1) % n];
+      double da = plane_dist(a, p, gx, gy), db = plane_dist(b, p, gx, gy);
+      if (da >= 0) tmp[m++] = *a;
+      if (da >= 0 && db < 0) tmp[m++] = crossing(a, da, b, db);
+      else if (da < 0 && db >= 0) tmp[m++] = crossing(b, db, a, da);
+    }
+    for (int i = 0; i < m; i++) poly[i] = tmp[i];
+    n = m;
+  }
+  return n;
+}
+
+/* ---- setup --------------------------------------------------------------- */
+
+/* floor(a / b) for b > 0, exact for negative a too. */
+static inline int64_t floor_div(int64_t a, int64_t b) {
+  int64_t q = a / b;
+  return q - (a % b < 0);
+}
+
+/* Round to the nearest integer, halves away from zero (inline, exact). */
+static inline int64_t snap(double v) {
+  return v >= 0 ? (int64_t)(v + 0.5) : -(int64_t)(0.5 - v);
+}
+
+/* Pixel position on the grid, depth and 1 / w of v->h (w > 0). */
+static void project(RastVert *v, int width, int height) {
+  const double *clip = v->h;
+  double inv = 1.0 / clip[3];
+  v->X = snap((clip[0] * inv + 1) * 0.5 * width * SUB);   /* NDC -> pixel, on the grid */
+  v->Y = snap((1 - clip[1] * inv) * 0.5 * height * SUB);
+  v->z = (float)((clip[2] * inv + 1) * 0.5);
+  v->iw = (float)inv;
+}
+
+void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
+  ClipVert cv = {{clip[0], clip[1], clip[2], clip[3]}, {0, 0}};
+  /* guard band: |x/w| <= gx puts pixel x within RAST_GUARD_PX of the image */
+  double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
+  for (int k = 0; k < 4; k++) v->h[k] = clip[k];
+  v->outcode = outcode(&cv, gx, gy);
+  if (v->outcode) { v->X = v->Y = 0; v->z = v->iw = 0; return; }
+  project(v, width, height);
+}
+
+/* Plane of an attribute with values f[0..2] at pixel positions (x, y):
+** p[0] = f0, p[1] = df/dx, p[2] = df/dy, solved from
+** f1 - f0 = p1 ex1 + p2 ey1 and f2 - f0 = p1 ex2 + p2 ey2 (inv_det is
+** 1 / (ex1 ey2 - ex2 ey1)). */
+static void plane(float p[3], const double f[3], double ex1, double ey1, double ex2, double ey2,
+                  double inv_det) {
+  double d1 = f[1] - f[0], d2 = f[2] - f[0];
+  p[0] = (float)f[0];
+  p[1] = (float)((d1 * ey2 - d2 * ey1) * inv_det);
+  p[2] = (float)((d2 * ex1 - d1 * ex2) * inv_det);
+}
+
+/* Set up triangle v[0..2] (all inside the planes) carrying barycentrics
+** b[0..2]. Returns 0 when it has no area or covers no sample centre. */
+static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], int32_t object,
+                 int32_t face, int width, int height) {
+  /* Twice the signed area on the grid; a negative one swaps vertices 1
+  ** and 2 so the interior is where all three edge functions are positive. */
+  int64_t area = (in[1]->X - in[0]->X) * (in[2]->Y - in[0]->Y) -
+                 (in[2]->X - in[0]->X) * (in[1]->Y - in[0]->Y);
+  if (area == 0) return 0;
+  int ord[3] = {0, 1, 2};
+  if (area < 0) { ord[1] = 2; ord[2] = 1; }
+  const RastVert *v[3] = {in[ord[0]], in[ord[1]], in[ord[2]]};
+  int64_t xmin = v[0]->X, xmax = v[0]->X, ymin = v[0]->Y, ymax = v[0]->Y;
+  for (int i = 1; i < 3; i++) {
+    xmin = v[i]->X < xmin ? v[i]->X : xmin; xmax = v[i]->X > xmax ? v[i]->X : xmax;
+    ymin = v[i]->Y < ymin ? v[i]->Y : ymin; ymax = v[i]->Y > ymax ? v[i]->Y : ymax;
+  }
+  /* Pixels whose centre (i + 1/2) lies in the box: ceil(min - 1/2) ..
+  ** floor(max - 1/2), clamped to the target. */
+  int64_t bx0 = -floor_div(SUB / 2 - xmin, SUB), bx1 = floor_div(xmax - SUB / 2, SUB) + 1;
+  int64_t by0 = -floor_div(SUB / 2 - ymin, SUB), by1 = floor_div(ymax - SUB / 2, SUB) + 1;
+  t->x0 = (int)(bx0 > 0 ? bx0 : 0);
+  t->y0 = (int)(by0 > 0 ? by0 : 0);
+  t->x1 = (int)(bx1 < width ? bx1 : width);
+  t->y1 = (int)(by1 < height ? by1 : height);
+  if (t->x0 >= t->x1 || t->y0 >= t->y1) return 0;
+  for (int i = 0; i < 3; i++) {
+    /* edge i runs from vertex i+1 to i+2; with d = end - start,
+    ** e(P) = dx (P.y - start.y) - dy (P.x - start.x) */
+    const RastVert *s = v[(i + 1) % 3], *e = v[(i + 2) % 3];
+    int64_t dx = e->X - s->X, dy = e->Y - s->Y;
+    t->a[i] = (int32_t)-dy;   /* |dx|, |dy| < 2^25 inside the guard band */
+    t->b[i] = (int32_t)dx;
+    t->c[i] = dy * s->X - dx * s->Y;
+    /* Top-left rule (y down): a top edge is horizontal with the interior
+    ** below (dx > 0), a left edge has the interior to its right (dy < 0).
+    ** Samples exactly on any other edge belong to the neighbour: e > 0. */
+    int top_left = dy < 0 || (dy == 0 && dx > 0);
+    if (!top_left) t->c[i] -= 1;
+  }
+  double ex1 = (double)(v[1]->X - v[0]->X) / SUB, ey1 = (double)(v[1]->Y - v[0]->Y) / SUB;
+  double ex2 = (double)(v[2]->X - v[0]->X) / SUB, ey2 = (double)(v[2]->Y - v[0]->Y) / SUB;
+  double inv_det = 1.0 / (ex1 * ey2 - ex2 * ey1);
+  double z[3], iw[3], b1w[3], b2w[3];
+  for (int i = 0; i < 3; i++) {
+    z[i] = v[i]->z;
+    iw[i] = v[i]->iw;
+    b1w[i] = b[ord[i]][0] * v[i]->iw;   /* b / w is affine in screen space */
+    b2w[i] = b[ord[i]][1] * v[i]->iw;
+  }
+  t->ox = (float)((double)v[0]->X / SUB);
+  t->oy = (float)((double)v[0]->Y / SUB);
+  plane(t->z, z, ex1, ey1, ex2, ey2, inv_det);
+  plane(t->iw, iw, ex1, ey1, ex2, ey2, inv_det);
+  plane(t->b1w, b1w, ex1, ey1, ex2, ey2, inv_det);
+  plane(t->b2w, b2w, ex1, ey1, ex2, ey2, inv_det);
+  t->object = object;
+  t->face = face;
+  return 1;
+}
+
+static RastTri *list_push(RastTriList *list) {
+  if (list->n == list->cap) list->tris = xgrow(list->tris, &list->cap, list->n + 1, sizeof *list->tris);
+  return &list->tris[list->n];
+}
+
+/* A triangle crossing some plane: clip it as a polygon, project the new
+** vertices, and fan it out into triangles. */
+static int emit_clipped(RastTriList *list, const RastVert *const v[3], unsigned planes,
+                        int32_t object, int32_t face, int width, int height) {
+  static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
+  ClipVert poly[MAXPOLY];
+  for (int i = 0; i < 3; i++) {
+    for (int k = 0; k < 4; k++) poly[i].h[k] = v[i]->h[k];
+    poly[i].b[0] = corner_bary[i][0];
+    poly[i].b[1] = corner_bary[i][1];
+  }
+  int n = clip_polygon(poly, 3, planes, gx, gy);
+  RastVert pv[MAXPOLY];
+  for (int i = 0; i < n; i++) {
+    for (int k = 0; k < 4; k++) pv[i].h[k] = poly[i].h[k];
+    pv[i].outcode = 0;   /* on the planes up to rounding: inside */
+    project(&pv[i], width, height);
+  }
+  int emitted = 0;
+  for (int i = 1; i + 1 < n; i++) {   /* fan around vertex 0 */
+    const RastVert *tv[3] = {&pv[0], &pv[i], &pv[i + 1]};
+    double b[3][2] = {{poly[0].b[0], poly[0].b[1]}, {poly[i].b[0], poly[i].b[1]},
+                      {poly[i + 1].b[0], poly[i + 1].b[1]}};
+    if (setup(list_push(list), tv, b, object, face, width, height)) {
+      list->n++;
+      emitted++;
+    }
+  }
+  return emitted;
+}
+
+int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int32_t face, int width,
+              int height) {
+  static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  unsigned all = v[0]->outcode & v[1]->outcode & v[2]->outcode;
+  unsigned any = v[0]->outcode | v[1]->outcode | v[2]->outcode;
+  if (all) return 0;                  /* wholly outside one plane */
+  if (any) return emit_clipped(list, v, any, object, face, width, height);
+  if (!setup(list_push(list), v, corner_bary, object, face, width, height)) return 0;
+  list->n++;
+  return 1;
+}
+
+void rast_list_free(RastTriList *list) {
+  free(list->tris);
+  *list = (RastTriList){0};
+}
+
+/* ---- scan conversion ----------------------------------------------------- */
+
+void rast_triangle(const RastTri *t, const RastTarget *rt) {
+  /* the triangle's pixel box, cut to the target's rectangle */
+  int x0 = t->x0 > rt->x0 ? t->x0 : rt->x0, x1 = t->x1 < rt->x1 ? t->x1 : rt->x1;
+  int y0 = t->y0 > rt->y0 ? t->y0 : rt->y0, y1 = t->y1 < rt->y1 ? t->y1 : rt->y1;
+  if (x0 >= x1 || y0 >= y1) return;
+  /* edge functions at the centre of the box's first sample; a step of one
+  ** pixel adds a * SUB (along x) or b * SUB (along y): integers, exact */
+  int64_t cx = (int64_t)x0 * SUB + SUB / 2, cy = (int64_t)y0 * SUB + SUB / 2;
+  int64_t row0 = t->a[0] * cx + t->b[0] * cy + t->c[0];
+  int64_t row1 = t->a[1] * cx + t->b[1] * cy + t->c[1];
+  int64_t row2 = t->a[2] * cx + t->b[2] * cy + t->c[2];
+  int64_t step_x0 = (int64_t)t->a[0] * SUB, step_x1 = (int64_t)t->a[1] * SUB, step_x2 = (int64_t)t->a[2] * SUB;
+  for (int y = y0; y < y1; y++) {
+    int64_t e0 = row0, e1 = row1, e2 = row2;
+    float fy = (float)y + 0.5f - t->oy;             /* sample y relative to the plane origin */
+    int idx = (y - rt->oy) * rt->stride + (x0 - rt->ox), entered = 0;
+    for (int x = x0; x < x1; x++, idx++) {
+      if ((e0 | e1 | e2) < 0) {                     /* a sign bit: outside some edge */
+        if (entered) break;                         /* convex: the row's span has ended */
+      } else {
+        entered = 1;
+        float fx = (float)x + 0.5f - t->ox;
+        float z = t->z[0] + t->z[1] * fx + t->z[2] * fy;   /* depth is affine in screen space */
+        if (rt->count) rt->count[idx]++;
+        if (z < rt->depth[idx]) {                   /* nearer than what is there: keep it */
+          /* b/w and 1/w are affine in screen space; their ratio is the
+          ** perspective-correct barycentric */
+          float iw = t->iw[0] + t->iw[1] * fx + t->iw[2] * fy;
+          float b1w = t->b1w[0] + t->b1w[1] * fx + t->b1w[2] * fy;
+          float b2w = t->b2w[0] + t->b2w[1] * fx + t->b2w[2] * fy;
+          float inv = 1.0f / iw;
+          rt->depth[idx] = z;
+          rt->object[idx] = t->object;
+          rt->face[idx] = t->face;
+          rt->bary[idx][0] = b1w * inv;
+          rt->bary[idx][1] = b2w * inv;
+        }
+      }
+      e0 += step_x0;                                /* one pixel right */
+      e1 += step_x1;
+      e2 += step_x2;
+    }
+    row0 += (int64_t)t->b[0] * SUB;                 /* one pixel down */
+    row1 += (int64_t)t->b[1] * SUB;
+    row2 += (int64_t)t->b[2] * SUB;
+  }
+}

@@ -1,0 +1,96 @@
+/*
+** The triangle rasterizer: half-space (edge function) scan conversion into
+** G-buffer planes, with a top-left fill rule on a fixed-point grid, so a
+** mesh whose triangles share edges covers each sample of its silhouette
+** exactly once (no cracks, no double coverage), perspective-correct
+** barycentrics and a depth test.
+**
+** Two steps. rast_emit() takes a triangle in clip coordinates (camera.h),
+** clips it against the near and far planes and a guard band around the
+** image when it must, and appends one or more RastTri to a list: the
+** per-triangle setup (edge functions, attribute planes). rast_triangle()
+** then draws one RastTri into a RastTarget, a rectangle of G-buffer planes
+** (a whole G-buffer or one screen tile of it). Drawing is deterministic:
+** equal depths keep the sample drawn first, so the result depends only on
+** the order triangles are drawn in, never on how the image is tiled
+** between threads.
+**
+** Sample positions are pixel centres (x + 0.5, y + 0.5) of the target grid.
+*/
+#ifndef render_raster_h
+#define render_raster_h
+
+#include <stdint.h>
+
+/* Vertex positions are snapped to 1/256 pixel: edge functions are exact
+** integers, so neighbouring triangles agree on every sample. */
+#define RAST_SUBPIXEL_BITS 8
+/* Triangles reaching further than this many pixels outside the image are
+** clipped there (keeps the fixed-point products inside 64 bits). */
+#define RAST_GUARD_PX 8192
+/* Largest target side in samples the fixed-point grid supports. */
+#define RAST_MAX_DIM 32768
+
+/* A triangle ready to draw. The edge function of edge i (the edge opposite
+** vertex i) at the fixed-point sample position (X, Y) is
+** e[i] = a[i] X + b[i] Y + c[i], positive inside; c[i] carries the fill
+** rule's bias, so "covered" is e[0], e[1], e[2] >= 0. Attributes are planes
+** in pixel space: value = p[0] + p[1] (x - x0) + p[2] (y - y0). */
+typedef struct RastTri {
+  int32_t a[3], b[3];
+  int64_t c[3];
+  int x0, y0, x1, y1;      /* covered pixels lie in [x0, x1) x [y0, y1) */
+  float ox, oy;            /* plane origin: pixel position of vertex 0 */
+  float z[3];              /* window depth, linear in screen space */
+  float iw[3];             /* 1 / w */
+  float b1w[3], b2w[3];    /* source barycentrics b1 / w, b2 / w */
+  int32_t object, face;
+} RastTri;
+
+/* A growing list of set-up triangles (rast_emit appends). */
+typedef struct RastTriList {
+  RastTri *tris;
+  int n, cap;
+} RastTriList;
+
+/* Where rast_triangle draws: a clip rectangle of pixels, and planes in
+** which pixel (x, y) lives at index (y - oy) * stride + (x - ox). count,
+** when not NULL, is incremented for every covered sample before the depth
+** test (the fill-rule tests use it). */
+typedef struct RastTarget {
+  int x0, y0, x1, y1;       /* drawable rectangle, end exclusive */
+  int ox, oy, stride;
+  float *depth;
+  int32_t *object, *face;
+  float (*bary)[2];
+  uint16_t *count;
+} RastTarget;
+
+/* A vertex projected for a width x height target: rast_vertex() once per
+** mesh vertex, then rast_emit() per triangle (shared vertices are projected
+** once, and neighbours see bit-identical positions). */
+typedef struct RastVert {
+  double h[4];             /* clip coordinates x, y, z, w */
+  unsigned outcode;        /* planes (near, far, guard band) it is outside of */
+  int64_t X, Y;            /* fixed-point pixel position (when outcode is 0) */
+  float z, iw;             /* window depth and 1 / w (when outcode is 0) */
+} RastVert;
+
+void rast_vertex(RastVert *v, const double clip[4], int width, int height);
+
+/* Set up triangle (v[0], v[1], v[2]) for a width x height target and
+** append it to list, clipped against the near and far planes and the guard
+** band when it crosses them. Its samples record object and face; the
+** barycentrics they record are those of this triangle (b1 for v[1], b2 for
+** v[2]), through any clipping. Returns the number of RastTri appended (0:
+** outside or degenerate). */
+int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int32_t face, int width,
+              int height);
+
+/* Draw t into rt: every covered sample inside rt's rectangle whose depth is
+** less than the stored depth gets depth, object, face and barycentrics. */
+void rast_triangle(const RastTri *t, const RastTarget *rt);
+
+void rast_list_free(RastTriList *list);
+
+#endif

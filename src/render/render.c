@@ -1,0 +1,798 @@
+/*
+** The frame pipeline (render.h): prepare the scene, set up and bin the
+** triangles, then rasterize and shade screen tiles on worker threads.
+**
+** Bottom-up: sizes and limits, the prepare stage (bounding box, camera,
+** lights, styles, objects), triangle setup and binning, the tile pass
+** (raster, shade, box filter), and the entry points.
+*/
+#include "render.h"
+
+#include <float.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../base/mem.h"
+#include "../geom/subdiv.h"
+#include "../geom/tessellate.h"
+#include "../lang/diag.h"
+#include "lines.h"   /* issue 6: the line stage */
+#include "raster.h"
+#include "shade.h"
+#include "stats.h"
+
+/* ---- sizes and limits ------------------------------------------------------ */
+
+void render_resolve_size(const Scene *s, int cli_w, int cli_h, int *w, int *h) {
+  int sw = s->output.width, sh = s->output.height;
+  if (sw <= 0 || sh <= 0) { sw = RENDER_DEFAULT_WIDTH; sh = RENDER_DEFAULT_HEIGHT; }
+  if (cli_w > 0 && cli_h > 0) { *w = cli_w; *h = cli_h; }
+  else if (cli_w > 0) { *w = cli_w; *h = (int)fmax(1, floor((double)cli_w * sh / sw + 0.5)); }
+  else if (cli_h > 0) { *h = cli_h; *w = (int)fmax(1, floor((double)cli_h * sw / sh + 0.5)); }
+  else { *w = sw; *h = sh; }
+}
+
+/* Check the frame's size against the named limits; reports and returns 0
+** when one is crossed. */
+static int check_limits(const Scene *s, int w, int h, int n) {
+  SrcRange at = s->output.loc;
+  if (w < 1 || h < 1 || w > RENDER_MAX_SIZE || h > RENDER_MAX_SIZE) {
+    diag_error(at, "image size %d x %d is outside 1 .. %d a side (RENDER_MAX_SIZE)", w, h,
+               RENDER_MAX_SIZE);
+    return 0;
+  }
+  if ((long long)w * h > RENDER_MAX_PIXELS) {
+    diag_error(at, "image size %d x %d is %lld pixels, more than %lld (RENDER_MAX_PIXELS)", w, h,
+               (long long)w * h, (long long)RENDER_MAX_PIXELS);
+    return 0;
+  }
+  if (n < 1 || n > RENDER_MAX_SAMPLES) {
+    diag_error(at, "samples %d is outside 1 .. %d (RENDER_MAX_SAMPLES)", n, RENDER_MAX_SAMPLES);
+    return 0;
+  }
+  if ((long)w * n > RENDER_MAX_SAMPLE_DIM || (long)h * n > RENDER_MAX_SAMPLE_DIM) {
+    diag_error(at, "%d x %d pixels at samples %d is %ld x %ld samples, more than %d a side "
+               "(RENDER_MAX_SAMPLE_DIM); lower the size or the samples", w, h, n, (long)w * n,
+               (long)h * n, RENDER_MAX_SAMPLE_DIM);
+    return 0;
+  }
+  return 1;
+}
+
+static int thread_count(const RenderOptions *o) {
+  if (o->threads > 0) return o->threads;
+  long n = sysconf(_SC_NPROCESSORS_ONLN);
+  return n > 0 ? (int)n : 1;
+}
+
+/* ---- prepare: bounding box and camera -------------------------------------- */
+
+static void box_add(Vec3 *lo, Vec3 *hi, Vec3 p) {
+  lo->x = fmin(lo->x, p.x); lo->y = fmin(lo->y, p.y); lo->z = fmin(lo->z, p.z);
+  hi->x = fmax(hi->x, p.x); hi->y = fmax(hi->y, p.y); hi->z = fmax(hi->z, p.z);
+}
+
+/* The world box of every object's control points (a Bezier patch lies in
+** the hull of its control net, a subdivision surface in its cage) and
+** every origami sheet. */
+static void scene_box(const Scene *s, Vec3 *lo, Vec3 *hi) {
+  *lo = v3(DBL_MAX, DBL_MAX, DBL_MAX);
+  *hi = v3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
+  for (int i = 0; i < s->nobjects; i++) {
+    const SceneObject *o = &s->objects[i];
+    const SceneGeometry *g = o->geometry;
+    if (!g) continue;
+    for (int p = 0; p < g->npatches; p++)
+      for (int k = 0; k < (g->patches[p].bilinear ? 4 : 16); k++)
+        box_add(lo, hi, m4_point(o->transform, g->patches[p].cp[k]));
+    for (int v = 0; v < g->nverts; v++) box_add(lo, hi, m4_point(o->transform, g->verts[v]));
+  }
+  for (int i = 0; i < s->norigami; i++) {
+    const SceneOrigami *og = &s->origami[i];
+    for (int v = 0; v < og->nverts; v++) {
+      Vec3 p = og->has_folded ? v3(og->folded[v].x, og->folded[v].y, 0)
+                              : v3(og->verts[v].x, og->verts[v].y, 0);
+      box_add(lo, hi, m4_point(og->transform, p));
+    }
+  }
+}
+
+/* ---- prepare: lights and styles ------------------------------------------- */
+
+static void set3(float d[3], Vec3 v) { d[0] = (float)v.x; d[1] = (float)v.y; d[2] = (float)v.z; }
+
+static void prepare_lights(const Scene *s, RenderFrame *f) {
+  if (s->nlights == 0) {
+    /* the default key light: over the camera's right shoulder (behind
+    ** the viewer, up and to the right), white, strength 1 */
+    const Camera *c = &f->camera;
+    Vec3 l = v3_add(v3_mul(c->forward, -1), v3_add(v3_mul(c->right, 0.6), v3_mul(c->up, 0.8)));
+    f->nlights = 1;
+    f->lights = xcalloc(1, sizeof *f->lights);
+    f->lights[0].directional = 1;
+    set3(f->lights[0].dir, v3_norm(l));
+    f->lights[0].color[0] = f->lights[0].color[1] = f->lights[0].color[2] = 1;
+    return;
+  }
+  f->nlights = s->nlights;
+  f->lights = xcalloc((size_t)s->nlights, sizeof *f->lights);
+  for (int i = 0; i < s->nlights; i++) {
+    const SceneLight *sl = &s->lights[i];
+    RenderLight *l = &f->lights[i];
+    l->directional = sl->kind == LIGHT_DIRECTIONAL;
+    set3(l->pos, sl->position);
+    set3(l->dir, v3_norm(v3_mul(sl->direction, -1)));   /* rays travel along direction */
+    l->color[0] = (float)(sl->color.r * sl->strength);
+    l->color[1] = (float)(sl->color.g * sl->strength);
+    l->color[2] = (float)(sl->color.b * sl->strength);
+    l->inverse_square = sl->falloff == FALLOFF_INVERSE_SQUARE;
+  }
+}
+
+static void prepare_styles(const Scene *s, RenderFrame *f) {
+  f->default_style = scene_default_style();
+  f->nstyles = s->nstyles + 1;
+  f->styles = xcalloc((size_t)f->nstyles, sizeof *f->styles);
+  for (int i = 0; i < s->nstyles; i++) shade_style_init(&f->styles[i], &s->styles[i]);
+  shade_style_init(&f->styles[s->nstyles], &f->default_style);
+}
+
+/* ---- prepare: objects ------------------------------------------------------ */
+
+/* World positions and normals of o's mesh. Normals go through the inverse
+** transpose; a mirroring transform (negative determinant) would turn the
+** triangles clockwise, so their winding is swapped back and the topology
+** rebuilt. */
+static void object_to_world(RenderObject *o) {
+  Mesh *m = o->mesh;
+  Mat4 M = o->object_to_world;
+  int ok;
+  Mat4 nt = m4_transpose(m4_inverse(M, &ok));
+  if (!ok) nt = M;
+  o->wpos = xmalloc((size_t)m->nverts * sizeof *o->wpos);
+  o->wnrm = xmalloc((size_t)m->nverts * sizeof *o->wnrm);
+  for (int i = 0; i < m->nverts; i++) {
+    set3(o->wpos[i], m4_point(M, m->pos[i]));
+    set3(o->wnrm[i], v3_norm(m4_dir(nt, m->nrm[i])));
+  }
+  double det = v3_dot(v3(M.m[0][0], M.m[1][0], M.m[2][0]),
+                      v3_cross(v3(M.m[0][1], M.m[1][1], M.m[2][1]), v3(M.m[0][2], M.m[1][2], M.m[2][2])));
+  if (det < 0) {
+    for (int t = 0; t < m->ntris; t++) {
+      int k = m->tri[t][1];
+      m->tri[t][1] = m->tri[t][2];
+      m->tri[t][2] = k;
+    }
+    mesh_build_edges(m);
+  }
+}
+
+/* Which triangles show their back to the camera: the geometric normal
+** (counter-clockwise winding) points away from the viewer. */
+static void object_facing(RenderObject *o, const Camera *c) {
+  const Mesh *m = o->mesh;
+  o->backfacing = xmalloc((size_t)m->ntris + 1);
+  for (int t = 0; t < m->ntris; t++) {
+    const float *a = o->wpos[m->tri[t][0]], *b = o->wpos[m->tri[t][1]], *d = o->wpos[m->tri[t][2]];
+    Vec3 e1 = v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    Vec3 e2 = v3(d[0] - a[0], d[1] - a[1], d[2] - a[2]);
+    Vec3 view = c->kind == CAMERA_ORTHO ? v3_mul(c->forward, -1)
+                                        : v3_sub(c->eye, v3(a[0], a[1], a[2]));
+    o->backfacing[t] = v3_dot(v3_cross(e1, e2), view) < 0;
+  }
+}
+
+static int prepare_objects(const Scene *s, RenderFrame *f) {
+  int ok = 1;
+  f->nobjects = s->nobjects;
+  f->objects = xcalloc((size_t)s->nobjects + 1, sizeof *f->objects);
+  for (int i = 0; i < s->nobjects; i++) {
+    const SceneObject *so = &s->objects[i];
+    RenderObject *o = &f->objects[i];
+    o->src = so;
+    o->object_to_world = so->transform;
+    o->style = &f->styles[so->style >= 0 && so->style < s->nstyles ? so->style : s->nstyles];
+    Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
+    int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
+    const SceneGeometry *g = so->geometry;
+    if (g && g->kind == GEOM_MESH && g->subdiv_level > 0) {   /* OpenSubdiv (subdiv.h) */
+      char err[256];
+      double t0 = stats_now();
+      o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
+      stats_record("subdiv", stats_now() - t0);
+      if (!o->mesh) {
+        diag_error(g->loc, "%s", err);
+        o->mesh = mesh_create(0, 0);
+        ok = 0;
+      }
+    } else {
+      o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
+                  : mesh_create(0, 0);
+    }
+    object_to_world(o);
+    f->ntriangles += o->mesh->ntris;
+  }
+  return ok;
+}
+
+/* An automatic camera framed the objects' control boxes; frame the
+** surfaces themselves now that they exist (tighter, and centred). */
+static void refit_camera(RenderFrame *f) {
+  CameraFit fit;
+  camera_fit_init(&fit, &f->camera);
+  for (int i = 0; i < f->nobjects; i++) {
+    const RenderObject *o = &f->objects[i];
+    for (int v = 0; v < o->mesh->nverts; v++)
+      camera_fit_add(&fit, &f->camera, v3(o->wpos[v][0], o->wpos[v][1], o->wpos[v][2]));
+  }
+  camera_fit_apply(&f->camera, &fit);
+}
+
+/* What depends on where the camera is: facing and gouraud colours. */
+static void prepare_view(RenderFrame *f) {
+  for (int i = 0; i < f->nobjects; i++) {
+    RenderObject *o = &f->objects[i];
+    object_facing(o, &f->camera);
+    if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
+  }
+}
+
+int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
+  memset(f, 0, sizeof *f);
+  double t0 = stats_now();
+  int w = o->width, h = o->height;
+  if (w <= 0 || h <= 0) render_resolve_size(s, w, h, &w, &h);
+  f->width = w;
+  f->height = h;
+  f->samples = o->samples > 0 ? o->samples : s->output.samples > 0 ? s->output.samples : 1;
+  f->background = s->output.background;
+  if (!check_limits(s, w, h, f->samples)) return 0;
+  Vec3 lo, hi;
+  scene_box(s, &lo, &hi);
+  const char *why = NULL;
+  if (!camera_setup(&f->camera, &s->camera, w, h, lo, hi, s->nobjects == 0 && s->norigami > 0,
+                    &why)) {
+    diag_error(s->camera.loc, "%s", why);
+    return 0;
+  }
+  prepare_styles(s, f);
+  double t1 = stats_now();
+  int ok = prepare_objects(s, f);
+  double t2 = stats_now();
+  if (!s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE) refit_camera(f);
+  prepare_lights(s, f);
+  prepare_view(f);
+  stats_record("prepare", t1 - t0 + stats_now() - t2);
+  stats_record("tessellate", t2 - t1);
+  stats_record_count("tessellate", "triangles", f->ntriangles);
+  return ok;
+}
+
+void render_frame_free(RenderFrame *f) {
+  for (int i = 0; i < f->nobjects; i++) {
+    RenderObject *o = &f->objects[i];
+    if (o->mesh) mesh_destroy(o->mesh);
+    free(o->wpos);
+    free(o->wnrm);
+    free(o->backfacing);
+    free(o->vcolor);
+  }
+  free(f->objects);
+  free(f->lights);
+  free(f->styles);
+  memset(f, 0, sizeof *f);
+}
+
+/* The set-up triangles, in per-chunk lists (see setup_triangles), and the
+** screen tiles with, for each, references to the triangles touching it in
+** drawing order (objects in order, triangles in order): bin t holds
+** items[start[t] .. start[t + 1]), each item chunk << BIN_LOCAL_BITS | the
+** index in that chunk's list. */
+typedef struct Bins {
+  int nlists;
+  RastTriList *lists;
+  int tiles_x, tiles_y, side;  /* tile side in samples */
+  int *start;
+  uint32_t *items;
+} Bins;
+
+#define BIN_LOCAL_BITS 15
+
+static inline const RastTri *bin_tri(const Bins *b, uint32_t item) {
+  return &b->lists[item >> BIN_LOCAL_BITS].tris[item & ((1u << BIN_LOCAL_BITS) - 1)];
+}
+
+/* ---- parallel tasks -------------------------------------------------------- */
+
+typedef struct TaskPool {
+  void (*fn)(void *ctx, int task);
+  void *ctx;
+  int ntasks;
+  atomic_int next;
+} TaskPool;
+
+static void *task_worker(void *arg) {
+  TaskPool *pool = arg;
+  for (int k; (k = atomic_fetch_add(&pool->next, 1)) < pool->ntasks;) pool->fn(pool->ctx, k);
+  return NULL;
+}
+
+/* Run fn(ctx, task) for every task 0..ntasks-1 on up to nthreads threads
+** (the caller is one of them). Tasks must write only their own results. */
+static void parallel_tasks(int ntasks, int nthreads, void (*fn)(void *ctx, int task), void *ctx) {
+  TaskPool pool = {fn, ctx, ntasks, 0};
+  atomic_init(&pool.next, 0);
+  if (nthreads > ntasks) nthreads = ntasks;
+  pthread_t tid[64];
+  if (nthreads > 64) nthreads = 64;
+  int started = 0;
+  for (; started < nthreads - 1; started++)
+    if (pthread_create(&tid[started], NULL, task_worker, &pool) != 0) break;   /* fewer is fine */
+  task_worker(&pool);
+  for (int i = 0; i < started; i++) pthread_join(tid[i], NULL);
+}
+
+/* ---- triangle setup and binning ------------------------------------------- */
+
+/* Setup runs in chunks: each projects a range of one object's vertices,
+** then each sets up a range of its triangles into its own list; the bins
+** refer to (chunk, index), so the drawing order is the mesh order at any
+** thread count. A clipped triangle can become up to 7, so a chunk's list
+** stays under 7 * SETUP_CHUNK < 2^BIN_LOCAL_BITS entries. */
+enum { SETUP_CHUNK = 4096 };
+
+typedef struct SetupChunk { int object, start, end; } SetupChunk;
+
+typedef struct SetupJob {
+  const RenderFrame *f;
+  int gw, gh;
+  RastVert **verts;            /* per object */
+  SetupChunk *chunks;
+  RastTriList *lists;          /* per triangle chunk */
+} SetupJob;
+
+static void project_chunk(void *ctx, int k) {
+  SetupJob *job = ctx;
+  const SetupChunk *c = &job->chunks[k];
+  const RenderObject *o = &job->f->objects[c->object];
+  for (int v = c->start; v < c->end; v++) {
+    const float *p = o->wpos[v];
+    double clip[4];
+    camera_to_clip(&job->f->camera, v3(p[0], p[1], p[2]), clip);
+    rast_vertex(&job->verts[c->object][v], clip, job->gw, job->gh);
+  }
+}
+
+static void emit_chunk(void *ctx, int k) {
+  SetupJob *job = ctx;
+  const SetupChunk *c = &job->chunks[k];
+  const Mesh *m = job->f->objects[c->object].mesh;
+  const RastVert *rv = job->verts[c->object];
+  RastTriList *list = &job->lists[k];
+  list->cap = c->end - c->start;   /* one each, unless clipping splits some */
+  list->tris = xmalloc((size_t)list->cap * sizeof *list->tris);
+  for (int t = c->start; t < c->end; t++) {
+    const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
+    rast_emit(list, tv, c->object, t, job->gw, job->gh);
+  }
+}
+
+/* Chunks covering count(object) items of every object; returns how many. */
+static int make_chunks(const RenderFrame *f, int tris, SetupChunk **out) {
+  int n = 0, cap = 0;
+  SetupChunk *c = NULL;
+  for (int i = 0; i < f->nobjects; i++) {
+    int total = tris ? f->objects[i].mesh->ntris : f->objects[i].mesh->nverts;
+    for (int s = 0; s < total; s += SETUP_CHUNK) {
+      c = xgrow(c, &cap, n + 1, sizeof *c);
+      c[n++] = (SetupChunk){i, s, s + SETUP_CHUNK < total ? s + SETUP_CHUNK : total};
+    }
+  }
+  *out = c;
+  return n;
+}
+
+/* Project every vertex of every object and set up its triangles for a
+** gw x gh sample grid, on nthreads threads, into b's lists. */
+static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, Bins *b) {
+  SetupJob job = {f, gw, gh, NULL, NULL, NULL};
+  job.verts = xcalloc((size_t)f->nobjects + 1, sizeof *job.verts);
+  for (int i = 0; i < f->nobjects; i++)
+    job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
+  int n = make_chunks(f, 0, &job.chunks);
+  parallel_tasks(n, nthreads, project_chunk, &job);
+  free(job.chunks);
+  n = make_chunks(f, 1, &job.chunks);
+  job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
+  parallel_tasks(n, nthreads, emit_chunk, &job);
+  for (int i = 0; i < f->nobjects; i++) free(job.verts[i]);
+  free(job.verts);
+  free(job.chunks);
+  b->lists = job.lists;
+  b->nlists = n;
+}
+
+/* Counting sort of triangle references by tile: two passes over the
+** triangles, so every bin keeps drawing order. */
+static void bin_triangles(Bins *b) {
+  int ntiles = b->tiles_x * b->tiles_y;
+  b->start = xcalloc((size_t)ntiles + 1, sizeof *b->start);
+  for (int pass = 0; pass < 2; pass++) {
+    int *fill = pass ? xcalloc((size_t)ntiles, sizeof *fill) : NULL;
+    for (int l = 0; l < b->nlists; l++)
+      for (int i = 0; i < b->lists[l].n; i++) {
+        const RastTri *t = &b->lists[l].tris[i];
+        int tx0 = t->x0 / b->side, tx1 = (t->x1 - 1) / b->side;
+        int ty0 = t->y0 / b->side, ty1 = (t->y1 - 1) / b->side;
+        for (int ty = ty0; ty <= ty1; ty++)
+          for (int tx = tx0; tx <= tx1; tx++) {
+            int k = ty * b->tiles_x + tx;
+            if (pass) b->items[b->start[k] + fill[k]++] = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
+            else b->start[k + 1]++;
+          }
+      }
+    if (!pass) {
+      for (int k = 0; k < ntiles; k++) b->start[k + 1] += b->start[k];
+      b->items = xmalloc((size_t)b->start[ntiles] * sizeof *b->items + 1);
+    }
+    free(fill);
+  }
+}
+
+static void bins_free(Bins *b) {
+  for (int l = 0; l < b->nlists; l++) rast_list_free(&b->lists[l]);
+  free(b->lists);
+  free(b->start);
+  free(b->items);
+}
+
+/* ---- the tile pass --------------------------------------------------------- */
+
+typedef struct TileJob {
+  const RenderFrame *f;
+  const Bins *bins;
+  GBuffer *full;               /* whole G-buffer, or NULL: per-worker tile planes */
+  Image *out;
+  ShadeFn *shade;              /* per style */
+  float eye[3], back[3];       /* camera position; -forward (ortho view vector) */
+  int ortho;
+  int want_uv;                 /* some style's model reads ShadeSample.uv */
+  atomic_int next;
+} TileJob;
+
+/* One worker's state: its tile planes (when there is no whole G-buffer)
+** and the time it spent in each stage. */
+typedef struct Worker {
+  TileJob *job;
+  float *depth;
+  int32_t *object, *face;
+  float (*bary)[2];
+  double raster_s, shade_s;
+} Worker;
+
+/* The target for tile (tx, ty): the whole G-buffer's planes, or the
+** worker's own, with the tile's rectangle cleared to the background. */
+static RastTarget tile_target(Worker *w, int tx, int ty) {
+  const Bins *b = w->job->bins;
+  GBuffer *g = w->job->full;
+  RastTarget rt = {0};
+  int gw = w->job->f->width * w->job->f->samples, gh = w->job->f->height * w->job->f->samples;
+  rt.x0 = tx * b->side;
+  rt.y0 = ty * b->side;
+  rt.x1 = rt.x0 + b->side < gw ? rt.x0 + b->side : gw;
+  rt.y1 = rt.y0 + b->side < gh ? rt.y0 + b->side : gh;
+  if (g) {
+    rt.ox = rt.oy = 0;
+    rt.stride = g->width;
+    rt.depth = g->depth; rt.object = g->object; rt.face = g->face; rt.bary = g->bary;
+  } else {
+    rt.ox = rt.x0;
+    rt.oy = rt.y0;
+    rt.stride = b->side;
+    rt.depth = w->depth; rt.object = w->object; rt.face = w->face; rt.bary = w->bary;
+  }
+  for (int y = rt.y0; y < rt.y1; y++) {
+    int i = (y - rt.oy) * rt.stride + (rt.x0 - rt.ox), n = rt.x1 - rt.x0;
+    for (int k = 0; k < n; k++) rt.depth[i + k] = GBUF_NO_DEPTH;
+    memset(rt.object + i, 0xff, (size_t)n * sizeof *rt.object);   /* -1 */
+    if (g) {   /* a kept G-buffer shows face and bary everywhere; tile planes are read only where drawn */
+      memset(rt.face + i, 0xff, (size_t)n * sizeof *rt.face);
+      memset(rt.bary + i, 0, (size_t)n * sizeof *rt.bary);
+    }
+  }
+  return rt;
+}
+
+/* Rebuild the surface at a sample from (object, face, bary) and shade it. */
+static void shade_sample(const TileJob *job, int obj, int face, const float bary[2], float rgb[3]) {
+  const RenderObject *o = &job->f->objects[obj];
+  const int *t = o->mesh->tri[face];
+  const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
+  const float *n0 = o->wnrm[t[0]], *n1 = o->wnrm[t[1]], *n2 = o->wnrm[t[2]];
+  float b1 = bary[0], b2 = bary[1], b0 = 1 - b1 - b2;
+  ShadeSample s;
+  s.frame = job->f;
+  s.obj = o;
+  s.face = face;
+  s.b1 = b1;
+  s.b2 = b2;
+  float px = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
+  float py = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
+  float pz = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
+  float nx = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
+  float ny = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
+  float nz = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
+  /* unit normal, turned toward the viewer when the triangle shows its back */
+  float nl = nx * nx + ny * ny + nz * nz;
+  nl = nl > 0 ? 1 / sqrtf(nl) : 0;
+  if (o->backfacing[face]) nl = -nl;
+  float vx = job->back[0], vy = job->back[1], vz = job->back[2];
+  if (!job->ortho) {                  /* toward the eye, unit */
+    vx = job->eye[0] - px; vy = job->eye[1] - py; vz = job->eye[2] - pz;
+    float vl = vx * vx + vy * vy + vz * vz;
+    vl = vl > 0 ? 1 / sqrtf(vl) : 0;
+    vx *= vl; vy *= vl; vz *= vl;
+  }
+  s.p[0] = px; s.p[1] = py; s.p[2] = pz;
+  s.n[0] = nx * nl; s.n[1] = ny * nl; s.n[2] = nz * nl;
+  s.v[0] = vx; s.v[1] = vy; s.v[2] = vz;
+  s.uv[0] = s.uv[1] = 0;
+  if (o->mesh->uv && job->want_uv) {
+    const Vec2 *uv = o->mesh->uv;
+    s.uv[0] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
+    s.uv[1] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
+  }
+  job->shade[o->style - job->f->styles](&s, rgb);
+}
+
+/* One sample a pixel: the sample is the pixel. */
+static void shade_tile_1(const TileJob *job, const RastTarget *rt) {
+  Color bg = job->f->background;
+  float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
+  for (int y = rt->y0; y < rt->y1; y++) {
+    float *o = &job->out->data[((size_t)y * job->f->width + rt->x0) * 4];
+    int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
+    for (int x = rt->x0; x < rt->x1; x++, i++, o += 4) {
+      if (rt->object[i] < 0) {
+        o[0] = bgu[0]; o[1] = bgu[1]; o[2] = bgu[2]; o[3] = bgu[3];
+        continue;
+      }
+      shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], o);
+      o[3] = 1;
+    }
+  }
+}
+
+/* Shade the samples of the tile and box-filter each pixel's N x N of them
+** (premultiplied, over the background) into the output image. */
+static void shade_tile(const TileJob *job, const RastTarget *rt) {
+  const RenderFrame *f = job->f;
+  int N = f->samples, W = f->width;
+  if (N == 1) { shade_tile_1(job, rt); return; }
+  Color bg = f->background;
+  float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
+  float nn = (float)(N * N), inv_nn = 1.0f / nn;
+  for (int py = rt->y0 / N; py < rt->y1 / N; py++) {
+    float *o = &job->out->data[((size_t)py * W + rt->x0 / N) * 4];
+    for (int px = rt->x0 / N; px < rt->x1 / N; px++, o += 4) {
+      float acc[4] = {0, 0, 0, 0};
+      for (int sy = py * N; sy < py * N + N; sy++) {
+        int i = (sy - rt->oy) * rt->stride + (px * N - rt->ox);
+        for (int k = 0; k < N; k++, i++) {
+          if (rt->object[i] < 0) {
+            acc[0] += bgp[0]; acc[1] += bgp[1]; acc[2] += bgp[2]; acc[3] += bgp[3];
+            continue;
+          }
+          float rgb[3];
+          shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], rgb);
+          acc[0] += rgb[0]; acc[1] += rgb[1]; acc[2] += rgb[2]; acc[3] += 1;
+        }
+      }
+      /* back to unassociated alpha: divide by the summed alpha (a
+      ** multiply when the pixel is opaque, the common case) */
+      float un = acc[3] == nn ? inv_nn : acc[3] > 0 ? 1 / acc[3] : 0;
+      o[0] = acc[0] * un; o[1] = acc[1] * un; o[2] = acc[2] * un; o[3] = acc[3] * inv_nn;
+    }
+  }
+}
+
+static void *tile_worker(void *arg) {
+  Worker *w = arg;
+  TileJob *job = w->job;
+  const Bins *b = job->bins;
+  int ntiles = b->tiles_x * b->tiles_y;
+  for (;;) {
+    int k = atomic_fetch_add(&job->next, 1);
+    if (k >= ntiles) break;
+    double t0 = stats_now();
+    RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x);
+    for (int i = b->start[k]; i < b->start[k + 1]; i++) rast_triangle(bin_tri(b, b->items[i]), &rt);
+    double t1 = stats_now();
+    shade_tile(job, &rt);
+    w->raster_s += t1 - t0;
+    w->shade_s += stats_now() - t1;
+  }
+  return NULL;
+}
+
+static void run_workers(TileJob *job, int nthreads) {
+  Worker *ws = xcalloc((size_t)nthreads, sizeof *ws);
+  pthread_t *tid = xcalloc((size_t)nthreads, sizeof *tid);
+  size_t side = (size_t)job->bins->side, n = side * side;
+  for (int i = 0; i < nthreads; i++) {
+    ws[i].job = job;
+    if (!job->full) {
+      ws[i].depth = xmalloc(n * sizeof *ws[i].depth);
+      ws[i].object = xmalloc(n * sizeof *ws[i].object);
+      ws[i].face = xmalloc(n * sizeof *ws[i].face);
+      ws[i].bary = xmalloc(n * sizeof *ws[i].bary);
+    }
+  }
+  for (int i = 1; i < nthreads; i++)
+    if (pthread_create(&tid[i], NULL, tile_worker, &ws[i]) != 0)
+      sumi_fatal("cannot start render thread %d", i);
+  tile_worker(&ws[0]);
+  double raster = ws[0].raster_s, shade = ws[0].shade_s;
+  for (int i = 1; i < nthreads; i++) {
+    pthread_join(tid[i], NULL);
+    raster += ws[i].raster_s;
+    shade += ws[i].shade_s;
+  }
+  stats_record_cpu("raster", raster);
+  stats_record_cpu("shade", shade);
+  for (int i = 0; i < nthreads; i++) {
+    free(ws[i].depth);
+    free(ws[i].object);
+    free(ws[i].face);
+    free(ws[i].bary);
+  }
+  free(ws);
+  free(tid);
+}
+
+void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuffer **gbuf_out) {
+  int N = f->samples, gw = f->width * N, gh = f->height * N;
+  double t0 = stats_now();
+  int nthreads = thread_count(o);
+  Bins bins = {0};
+  setup_triangles(f, gw, gh, nthreads, &bins);
+  bins.side = RENDER_TILE * N;
+  bins.tiles_x = (gw + bins.side - 1) / bins.side;
+  bins.tiles_y = (gh + bins.side - 1) / bins.side;
+  bin_triangles(&bins);
+  double t1 = stats_now();
+  long long nset = 0;
+  for (int l = 0; l < bins.nlists; l++) nset += bins.lists[l].n;
+  stats_record("setup", t1 - t0);
+  stats_record_count("setup", "raster triangles", nset);
+
+  TileJob job;
+  memset(&job, 0, sizeof job);
+  job.f = f;
+  job.bins = &bins;
+  job.out = out;
+  job.ortho = f->camera.kind == CAMERA_ORTHO;
+  set3(job.eye, f->camera.eye);
+  set3(job.back, v3_mul(f->camera.forward, -1));
+  job.shade = xmalloc((size_t)f->nstyles * sizeof *job.shade);
+  for (int i = 0; i < f->nstyles; i++) {
+    job.shade[i] = shade_model(f->styles[i].kind);
+    job.want_uv |= shade_reads_uv(f->styles[i].kind);
+  }
+  atomic_init(&job.next, 0);
+  if (gbuf_out) {
+    job.full = gbuf_create(f->width, f->height, N);
+    job.full->camera = camera_scaled(&f->camera, gw, gh);
+  }
+  int ntiles = bins.tiles_x * bins.tiles_y;
+  run_workers(&job, nthreads < ntiles ? nthreads : ntiles);
+  stats_record("raster+shade", stats_now() - t1);
+  if (gbuf_out) *gbuf_out = job.full;
+  free(job.shade);
+  bins_free(&bins);
+}
+
+/* ---- entry points ------------------------------------------------------------ */
+
+int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out) {
+  RenderFrame f;
+  *out = NULL;
+  if (gbuf_out) *gbuf_out = NULL;
+  if (!render_prepare(s, o, &f)) {
+    render_frame_free(&f);
+    return 1;
+  }
+  *out = image_create(f.width, f.height, 4);
+  render_frame(&f, o, *out, gbuf_out);
+  /* lines (issue 6, src/render/lines.h): strokes composited over the shaded image */
+  if (!line_render_frame(&f, thread_count(o), *out, NULL, NULL)) {
+    if (gbuf_out && *gbuf_out) { gbuf_destroy(*gbuf_out); *gbuf_out = NULL; }
+    image_destroy(*out);
+    *out = NULL;
+    render_frame_free(&f);
+    return 1;
+  }
+  if (gbuf_out) render_gbuffer_attributes(*gbuf_out, &f);
+  render_frame_free(&f);
+  return 0;
+}
+
+void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f) {
+  gbuf_alloc_attributes(g);
+  size_t n = (size_t)g->width * g->height;
+  for (size_t i = 0; i < n; i++) {
+    int obj = g->object[i];
+    if (obj < 0) {
+      memset(g->normal[i], 0, sizeof g->normal[i]);
+      memset(g->uv[i], 0, sizeof g->uv[i]);
+      memset(g->position[i], 0, sizeof g->position[i]);
+      continue;
+    }
+    const RenderObject *o = &f->objects[obj];
+    const int *t = o->mesh->tri[g->face[i]];
+    float b1 = g->bary[i][0], b2 = g->bary[i][1], b0 = 1 - b1 - b2;
+    float nl = 0;
+    for (int k = 0; k < 3; k++) {
+      g->position[i][k] = b0 * o->wpos[t[0]][k] + b1 * o->wpos[t[1]][k] + b2 * o->wpos[t[2]][k];
+      g->normal[i][k] = b0 * o->wnrm[t[0]][k] + b1 * o->wnrm[t[1]][k] + b2 * o->wnrm[t[2]][k];
+      nl += g->normal[i][k] * g->normal[i][k];
+    }
+    nl = nl > 0 ? 1 / sqrtf(nl) : 0;
+    if (o->backfacing[g->face[i]]) nl = -nl;
+    for (int k = 0; k < 3; k++) g->normal[i][k] *= nl;
+    const Vec2 *uv = o->mesh->uv;
+    g->uv[i][0] = uv ? (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x) : 0;
+    g->uv[i][1] = uv ? (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y) : 0;
+  }
+}
+
+/* ---- AOVs ----------------------------------------------------------------------- */
+
+/* output without its extension, plus "." name "." ext, into buf. */
+static void aov_path(char *buf, size_t n, const char *output, const char *name, const char *ext) {
+  const char *dot = strrchr(output, '.'), *slash = strrchr(output, '/');
+  int stem = dot && (!slash || dot > slash) ? (int)(dot - output) : (int)strlen(output);
+  snprintf(buf, n, "%.*s.%s.%s", stem, output, name, ext);
+}
+
+/* Write one pass; 0 with err set on failure or an unknown name. */
+static int write_aov(GBuffer *g, const char *output, const char *name, char *err, size_t errlen) {
+  static const char *const depth_ch[] = {"Z"}, *const n_ch[] = {"N.x", "N.y", "N.z"},
+                           *const p_ch[] = {"P.x", "P.y", "P.z"}, *const uv_ch[] = {"u", "v"};
+  char path[4096];
+  int w = g->width, h = g->height;
+  if (!strcmp(name, "object") || !strcmp(name, "face")) {
+    aov_path(path, sizeof path, output, name, "tif");
+    return image_write_ids_tiff(path, w, h, name[0] == 'o' ? g->object : g->face, err, errlen);
+  }
+  aov_path(path, sizeof path, output, name, "exr");
+  if (!strcmp(name, "depth")) return image_write_aov_exr(path, w, h, 1, (const char **)depth_ch, g->depth, err, errlen);
+  if (!strcmp(name, "normal"))
+    return image_write_aov_exr(path, w, h, 3, (const char **)n_ch, &g->normal[0][0], err, errlen);
+  if (!strcmp(name, "position"))
+    return image_write_aov_exr(path, w, h, 3, (const char **)p_ch, &g->position[0][0], err, errlen);
+  if (!strcmp(name, "uv")) return image_write_aov_exr(path, w, h, 2, (const char **)uv_ch, &g->uv[0][0], err, errlen);
+  snprintf(err, errlen, "--aov: unknown pass `%s` (depth, normal, position, uv, object, face, all)", name);
+  return 0;
+}
+
+int render_write_aovs(GBuffer *g, const char *output, const char *list, char *err, size_t errlen) {
+  static const char *const all[] = {"depth", "normal", "position", "uv", "object", "face"};
+  char name[32];
+  for (const char *p = list; *p;) {
+    size_t n = strcspn(p, ",");
+    snprintf(name, sizeof name, "%.*s", (int)(n < sizeof name ? n : sizeof name - 1), p);
+    if (!strcmp(name, "all")) {
+      for (int i = 0; i < 6; i++)
+        if (!write_aov(g, output, all[i], err, errlen)) return 0;
+    } else if (!write_aov(g, output, name, err, errlen)) {
+      return 0;
+    }
+    p += n + (p[n] == ',');
+  }
+  return 1;
+}

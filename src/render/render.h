@@ -1,0 +1,140 @@
+/*
+** The frame pipeline: a Scene in, an Image out.
+**
+**   prepare   tessellate every object (tessellate.h), move it to world
+**             space, frame the camera, resolve lights and styles
+**   raster    clip, set up and bin the triangles into screen tiles, then
+**             scan-convert each tile into the G-buffer (raster.h)
+**   shade     each sample by its object's style (shade.h), box-filter the
+**             samples of each pixel (`samples N`) over the background
+** Raster and shade run tile by tile on --threads workers; every tile's
+** result depends only on the scene, so the image is byte-identical at any
+** thread count.
+**
+** The prepared frame (RenderFrame) is public so later stages (lines, AOVs)
+** read the same meshes, camera and lights the rasterizer used.
+*/
+#ifndef render_render_h
+#define render_render_h
+
+#include "../geom/mesh.h"
+#include "../io/image.h"
+#include "../scene/scene.h"
+#include "camera.h"
+#include "gbuffer.h"
+
+/* Largest output side in pixels, and largest side of the sample grid
+** (output side times `samples`): the rasterizer's fixed-point limit. */
+#define RENDER_MAX_SIZE 16384
+#define RENDER_MAX_SAMPLE_DIM 32768
+/* Most output pixels: the float RGBA image alone is 16 bytes a pixel, so
+** 8192 x 8192 is 1 GiB. */
+#define RENDER_MAX_PIXELS (8192LL * 8192LL)
+/* Most samples per pixel side (`samples N`): 16 x 16 = 256 a pixel. */
+#define RENDER_MAX_SAMPLES 16
+/* Image size when neither the scene nor the command line sets one. */
+#define RENDER_DEFAULT_WIDTH 640
+#define RENDER_DEFAULT_HEIGHT 480
+/* Segments a patch side gets when an object asks for none (uniform). */
+#define RENDER_DEFAULT_TESS 16
+/* Screen tiles, in output pixels a side (a tile is TILE * samples samples). */
+#define RENDER_TILE 32
+
+typedef struct RenderOptions {
+  int width, height;   /* after -W/-H (render_resolve_size); 0: the scene's, or 640 x 480 */
+  int threads;         /* workers, >= 1; 0 = one per online CPU */
+  int stats;           /* the caller prints stats.h's table (stages always record) */
+  int samples;         /* 0: the scene's `samples`; else overrides it */
+} RenderOptions;
+
+/* A light resolved for shading: floats, world space. */
+typedef struct RenderLight {
+  int directional;
+  float pos[3];        /* point light position */
+  float dir[3];        /* directional: unit vector toward the light */
+  float color[3];      /* linear colour times strength */
+  int inverse_square;  /* point light falls off as 1 / d^2 */
+} RenderLight;
+
+/* Per-style shading constants, resolved once a frame (floats, linear). */
+typedef struct RenderStyle {
+  const SceneStyle *src;
+  ShadeKind kind;
+  float base[3];
+  float ambient;
+  float specular, shininess;
+  int bands_n;                 /* T_n's n for the diffuse term (bands - 1) */
+  float threshold;
+  int spec_n;                  /* T_n's n for the specular term */
+  float spec_threshold;
+  float spec_cut;              /* n.h below which T_n(f_s) is surely 0 */
+  float edge;                  /* n.v cutoff, 0 = no silhouette ramp */
+  float edge_color[3];
+} RenderStyle;
+
+/* One object ready to draw. Its mesh stays in object space (the line
+** stages want it there, with object_to_world); the rasterizer and shading
+** use the world copies. */
+typedef struct RenderObject {
+  const SceneObject *src;
+  const RenderStyle *style;
+  Mesh *mesh;                  /* owned; topology built; winding is
+                                  counter-clockwise in world space too */
+  Mat4 object_to_world;
+  float (*wpos)[3];            /* mesh->nverts world positions */
+  float (*wnrm)[3];            /* mesh->nverts world unit normals */
+  unsigned char *backfacing;   /* per triangle: its front faces away from the camera */
+  float (*vcolor)[3];          /* gouraud: per-vertex lit colour, else NULL */
+} RenderObject;
+
+typedef struct RenderFrame {
+  int width, height;           /* output pixels */
+  int samples;                 /* N: N x N samples a pixel */
+  Camera camera;               /* for the output size (camera_scaled for others) */
+  Color background;
+  int nobjects;
+  RenderObject *objects;       /* Scene.objects, in order */
+  int nlights;
+  RenderLight *lights;         /* the scene's, or the default key light */
+  int nstyles;
+  RenderStyle *styles;         /* Scene.styles, then the default style */
+  SceneStyle default_style;
+  long long ntriangles;
+} RenderFrame;
+
+/* Output size from the scene and -W/-H (0 = not given): both given wins;
+** one alone keeps the scene's aspect ratio; neither takes the scene's size
+** or 640 x 480. */
+void render_resolve_size(const Scene *s, int cli_w, int cli_h, int *w, int *h);
+
+/* Prepare *f from s for an output of o->width x o->height (already
+** resolved). Returns 1, or 0 with a diagnostic reported (diag.h) when the
+** scene cannot be rendered (size or sample limits, a bad camera). Free with
+** render_frame_free even on failure. */
+int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f);
+void render_frame_free(RenderFrame *f);
+
+/* Rasterize and shade f into out (an RGBA image of f's size, created by
+** the caller). When gbuf_out is not NULL, *gbuf_out receives the whole
+** G-buffer (caller frees with gbuf_destroy); otherwise each worker keeps
+** only the tile it is drawing. */
+void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuffer **gbuf_out);
+
+/* The whole pipeline: prepare, rasterize, shade. *out receives a new RGBA
+** image (image_destroy). Returns 0 on success, 1 when the scene cannot be
+** rendered (diagnostics reported). */
+int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out);
+
+/* Fill the attribute planes (normal, uv, position) of g from f. */
+void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f);
+
+/* --aov: write the passes named in list (comma-separated: depth, normal,
+** position, uv, object, face, or all) of g beside output: "out.png" gives
+** out.depth.exr (channel Z, the window depth of camera.h; background
+** +inf), out.normal.exr (N.x, N.y, N.z), out.position.exr (P.x, P.y, P.z),
+** out.uv.exr (u, v), out.object.tif and out.face.tif (int32 ids, -1 =
+** background), all at the sample resolution. Returns 1, or 0 with a reason
+** in err (an unknown pass name, a failed write). */
+int render_write_aovs(GBuffer *g, const char *output, const char *list, char *err, size_t errlen);
+
+#endif

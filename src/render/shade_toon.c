@@ -1,0 +1,84 @@
+/*
+** Toon shading (004 "Toon shading"; 002 section 2): the lighting equation
+** with the multi-band step T_n applied to the diffuse and the specular
+** terms separately,
+**   I = m_a l_a + sum_i m_d T_n(f_d, t) l_i + sum_i m_s T_m(f_s, t_s) l_i,
+** or, when the style gives ramps, 1D colour ramps indexed by the diffuse
+** and specular values (color = ramp_d(d) + ramp_s(s)); then the lecture's
+** silhouette: where edge = max(0, n.v) falls below the style's cutoff the
+** sample takes the edge colour.
+*/
+#include "shade.h"
+
+#include <math.h>
+
+static inline float dot3(const float a[3], const float b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The ramp colour for a value x in [0, 1]: the ramp's n colours split
+** [0, 1] into n equal steps (a 1D texture read with nearest filtering). */
+static const Color *ramp_at(const Color *ramp, int n, float x) {
+  int i = (int)(x * n);
+  return &ramp[i < 0 ? 0 : i >= n ? n - 1 : i];
+}
+
+/* T_m(f_s) for light direction l, skipping pow() where n.h is below the
+** style's cutoff (the step is surely 0 there). */
+static float banded_specular(const RenderStyle *st, const float n[3], const float l[3],
+                             const float v[3]) {
+  if (dot3(n, l) <= 0) return 0;
+  float h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};
+  float hl = sqrtf(dot3(h, h));
+  if (hl <= 0) return 0;
+  float nh = dot3(n, h) / hl;
+  if (nh <= st->spec_cut) return 0;
+  return shade_step(powf(nh, st->shininess), st->spec_threshold, st->spec_n);
+}
+
+/* Colour ramps: the diffuse (and specular) values of all lights, weighted
+** by each light's mean intensity, index the ramps. */
+static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeToon *t,
+                       float rgb[3]) {
+  float d = 0, sp = 0;
+  for (int i = 0; i < s->frame->nlights; i++) {
+    float l[3], col[3];
+    shade_light(s->frame, i, s->p, l, col);
+    float w = (col[0] + col[1] + col[2]) / 3;
+    d += shade_diffuse(s->n, l) * w;
+    if (st->specular > 0) sp += shade_specular(s->n, l, s->v, st->shininess) * w;
+  }
+  const Color *cd = ramp_at(t->ramp, t->nramp, d > 1 ? 1 : d);
+  rgb[0] = cd->r; rgb[1] = cd->g; rgb[2] = cd->b;
+  if (st->specular <= 0) return;
+  if (t->nspecular_ramp > 0) {
+    const Color *cs = ramp_at(t->specular_ramp, t->nspecular_ramp, sp > 1 ? 1 : sp);
+    rgb[0] += cs->r; rgb[1] += cs->g; rgb[2] += cs->b;
+  } else {
+    float k = st->specular * shade_step(sp, st->spec_threshold, st->spec_n);
+    rgb[0] += k; rgb[1] += k; rgb[2] += k;
+  }
+}
+
+/* Bands: T_n on each light's diffuse term, T_m on its specular term. */
+static void toon_bands(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
+  for (int c = 0; c < 3; c++) rgb[c] = st->base[c] * st->ambient;
+  for (int i = 0; i < s->frame->nlights; i++) {
+    float l[3], col[3];
+    shade_light(s->frame, i, s->p, l, col);
+    float td = shade_step(shade_diffuse(s->n, l), st->threshold, st->bands_n);
+    float ts = st->specular > 0 ? st->specular * banded_specular(st, s->n, l, s->v) : 0;
+    for (int c = 0; c < 3; c++) rgb[c] += (st->base[c] * td + ts) * col[c];
+  }
+}
+
+void shade_toon(const ShadeSample *s, float rgb[3]) {
+  const RenderStyle *st = s->obj->style;
+  if (st->edge > 0 && dot3(s->n, s->v) < st->edge) {   /* edge = max(0, n.v) below the cutoff */
+    rgb[0] = st->edge_color[0]; rgb[1] = st->edge_color[1]; rgb[2] = st->edge_color[2];
+    return;
+  }
+  const ShadeToon *t = &st->src->shade.toon;
+  if (t->nramp > 0) toon_ramps(s, st, t, rgb);
+  else toon_bands(s, st, rgb);
+}

@@ -1,0 +1,497 @@
+/*
+** Strokes: building (scaling, filtering, ribs) and drawing (coverage per
+** stroke, then "over" compositing) of the polylines of the line stage.
+*/
+#include "stroke.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+#include "../base/rng.h"
+
+static float clampf(float x, float lo, float hi) { return x < lo ? lo : x > hi ? hi : x; }
+
+/* ---- procedural ink -------------------------------------------------------- */
+
+/* A lattice value in [0, 1) for integer i (integer hash, lowbias32). */
+static float lattice(int32_t i) {
+  uint32_t x = (uint32_t)i;
+  x ^= x >> 16; x *= 0x7feb352dU;
+  x ^= x >> 15; x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return (float)(x >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Smooth 1D value noise in [0, 1). */
+static float vnoise(float x) {
+  float fl = floorf(x), f = x - fl;
+  int32_t i = (int32_t)fl;
+  float t = f * f * (3 - 2 * f);
+  return lattice(i) + t * (lattice(i + 1) - lattice(i));
+}
+
+float stroke_ink(const float phase[4], float s, float len, float v, float w) {
+  float W = w > 1 ? w : 1;
+  /* mostly full ink (composited in linear light, 90 % ink already reads
+  ** grey), with rare thin patches where the brush ran dry and streaks */
+  float dry = vnoise(s / (8 * W) + phase[0]), streak = vnoise(v * 6 + phase[1] + s / (40 * W));
+  float along = 1 - 0.25f * dry * dry * dry * dry;
+  float fibre = 1 - 0.08f * streak * streak;
+  float edge = fabsf(2 * v - 1);                                             /* 1 at the sides */
+  float ragged = edge > 0.85f ? 1 - (edge - 0.85f) / 0.15f * 0.5f * vnoise(s / (1.5f * W) + phase[2]) : 1;
+  float end = fminf(s, len - s) / W;                                         /* softer ends */
+  float ends = 0.6f + 0.4f * clampf(end, 0, 1);
+  return clampf(along * fibre * ragged * ends, 0, 1);
+}
+
+/* The ink of an image texture at arc length s and across position v. */
+static float image_ink(const Image *img, float s, float v, float w) {
+  int tw = img->width, th = img->height, ch = img->channels;
+  float aspect = (float)tw / (float)th;
+  float x = s / (w * aspect) * (float)tw - 0.5f, y = (1 - v) * (float)(th - 1);
+  float fx = floorf(x), fy = floorf(y);
+  float ax = x - fx, ay = y - fy;
+  int x0 = ((int)fx % tw + tw) % tw, x1 = (x0 + 1) % tw;
+  int y0 = (int)clampf(fy, 0, (float)(th - 1)), y1 = y0 + 1 < th ? y0 + 1 : th - 1;
+  int alpha = image_alpha_channel(img);
+  float acc = 0;
+  for (int k = 0; k < 4; k++) {
+    int xx = k & 1 ? x1 : x0, yy = k & 2 ? y1 : y0;
+    float wt = (k & 1 ? ax : 1 - ax) * (k & 2 ? ay : 1 - ay);
+    const float *p = img->data + ((size_t)yy * tw + xx) * ch;
+    float ink;
+    if (alpha >= 0) ink = p[alpha];
+    else if (ch >= 3) ink = 1 - (0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]);
+    else ink = 1 - p[0];
+    acc += wt * ink;
+  }
+  return clampf(acc, 0, 1);
+}
+
+static float texture_at(const Stroke *st, float s, float v) {
+  if (st->solid) return 1;
+  if (st->texture) return image_ink(st->texture, s, v, st->width);
+  return stroke_ink(st->phase, s, st->s[st->npts - 1], v, st->width);
+}
+
+/* ---- building ---------------------------------------------------------------- */
+
+/* The image texture named name, read once per list. */
+static const Image *texture_get(StrokeList *sl, const char *name, char *err, size_t errlen) {
+  for (int i = 0; i < sl->ntex; i++)
+    if (strcmp(sl->tex_name[i], name) == 0) return sl->tex[i];
+  Image *img = NULL;
+  if (!image_read(name, &img, err, errlen)) return NULL;
+  if (img->width < 1 || img->height < 1) {
+    snprintf(err, errlen, "%s: stroke texture has no pixels", name);
+    image_destroy(img);
+    return NULL;
+  }
+  int cap = sl->cap_tex;
+  sl->tex = xgrow(sl->tex, &cap, sl->ntex + 1, sizeof *sl->tex);
+  sl->tex_name = xgrow(sl->tex_name, &sl->cap_tex, sl->ntex + 1, sizeof *sl->tex_name);
+  sl->tex[sl->ntex] = img;
+  sl->tex_name[sl->ntex] = xstrdup(name);
+  sl->ntex++;
+  return img;
+}
+
+/* Ribs of a ribbon: left/right ends at each point (001 §2.1.6). */
+static void build_ribs(Stroke *st, double miter_limit) {
+  int n = st->npts;
+  const float *p = st->pts;
+  st->left = xmalloc((size_t)n * 2 * sizeof *st->left);
+  st->right = xmalloc((size_t)n * 2 * sizeof *st->right);
+  for (int i = 0; i < n; i++) {
+    int prev = i > 0 ? i - 1 : (st->closed ? n - 2 : i);
+    int next = i < n - 1 ? i + 1 : (st->closed ? 1 : i);
+    double dx = p[2 * next] - p[2 * prev], dy = p[2 * next + 1] - p[2 * prev + 1];
+    double len = sqrt(dx * dx + dy * dy);
+    if (len < 1e-9) { dx = 1; dy = 0; len = 1; }
+    double rx = -dy / len, ry = dx / len;   /* rib: perpendicular to v[i+1] - v[i-1] */
+    double f = 1;
+    if (prev != i && next != i) {
+      /* miter factor |r| / (r . n), n the unit normal of v[i+1] - v[i] */
+      double ex = p[2 * next] - p[2 * i], ey = p[2 * next + 1] - p[2 * i + 1];
+      double el = sqrt(ex * ex + ey * ey);
+      double c = el > 1e-9 ? (rx * -ey + ry * ex) / el : 1;
+      f = c * miter_limit > 1 ? 1 / c : miter_limit;
+      if (f < 1) f = 1;
+    }
+    double hw = 0.5 * st->width * f;
+    st->left[2 * i] = (float)(p[2 * i] + rx * hw);
+    st->left[2 * i + 1] = (float)(p[2 * i + 1] + ry * hw);
+    st->right[2 * i] = (float)(p[2 * i] - rx * hw);
+    st->right[2 * i + 1] = (float)(p[2 * i + 1] - ry * hw);
+  }
+}
+
+static void stroke_box(Stroke *st) {
+  float pad = st->width + 2;
+  if (st->left) {   /* miters reach further than the width */
+    for (int i = 0; i < 2 * st->npts; i++) {
+      pad = fmaxf(pad, fabsf(st->left[i] - st->pts[i]) + 2);
+    }
+  }
+  st->box[0] = st->box[2] = st->pts[0];
+  st->box[1] = st->box[3] = st->pts[1];
+  for (int i = 1; i < st->npts; i++) {
+    st->box[0] = fminf(st->box[0], st->pts[2 * i]);
+    st->box[2] = fmaxf(st->box[2], st->pts[2 * i]);
+    st->box[1] = fminf(st->box[1], st->pts[2 * i + 1]);
+    st->box[3] = fmaxf(st->box[3], st->pts[2 * i + 1]);
+  }
+  st->box[0] -= pad; st->box[1] -= pad; st->box[2] += pad; st->box[3] += pad;
+}
+
+/* Copy polyline k of polys scaled to the output into st (close points
+** merged); returns its length. */
+static double scaled_points(Stroke *st, const LinePolys *polys, int k, double sx, double sy) {
+  int a = polys->start[k], n = polys->start[k + 1] - a;
+  st->pts = xmalloc((size_t)n * 2 * sizeof *st->pts);
+  st->s = xmalloc((size_t)n * sizeof *st->s);
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    float x = (float)(polys->pts[2 * (a + i)] * sx), y = (float)(polys->pts[2 * (a + i) + 1] * sy);
+    if (m > 0 && hypotf(x - st->pts[2 * m - 2], y - st->pts[2 * m - 1]) < 0.25f) {
+      if (i < n - 1) continue;   /* too close to its neighbour to shape a rib */
+      if (m > 1) m--;            /* the end point replaces the close one */
+    }
+    st->pts[2 * m] = x;
+    st->pts[2 * m + 1] = y;
+    st->s[m] = m > 0 ? st->s[m - 1] + hypotf(x - st->pts[2 * m - 2], y - st->pts[2 * m - 1]) : 0;
+    m++;
+  }
+  /* drop inner points where the line doubles back (turns by more than
+  ** 120°): a rib there has no direction and its miter would spike */
+  int kept = 0;
+  for (int i = 0; i < m; i++) {
+    if (kept >= 1 && i + 1 < m) {
+      float ax = st->pts[2 * i] - st->pts[2 * kept - 2], ay = st->pts[2 * i + 1] - st->pts[2 * kept - 1];
+      float bx = st->pts[2 * i + 2] - st->pts[2 * i], by = st->pts[2 * i + 3] - st->pts[2 * i + 1];
+      if (ax * bx + ay * by < -0.5f * hypotf(ax, ay) * hypotf(bx, by)) continue;
+    }
+    st->pts[2 * kept] = st->pts[2 * i];
+    st->pts[2 * kept + 1] = st->pts[2 * i + 1];
+    st->s[kept] = kept > 0 ? st->s[kept - 1] + hypotf(st->pts[2 * kept] - st->pts[2 * kept - 2],
+                                             st->pts[2 * kept + 1] - st->pts[2 * kept - 1]) : 0;
+    kept++;
+  }
+  m = kept;
+  double len = m > 0 ? st->s[m - 1] : 0;
+  st->npts = m;
+  return len;
+}
+
+int stroke_build(StrokeList **out, const LinePolys *polys, const LineObject *objs, double sx,
+                 double sy, char *err, size_t errlen) {
+  StrokeList *sl = xcalloc(1, sizeof *sl);
+  *out = NULL;
+  int maxobj = 0;
+  for (int k = 0; k < polys->n; k++) if (polys->obj[k] + 1 > maxobj) maxobj = polys->obj[k] + 1;
+  int *made = xcalloc((size_t)maxobj + 1, sizeof *made);   /* strokes so far per object */
+  for (int k = 0; k < polys->n; k++) {
+    int o = polys->obj[k];
+    const SceneLines *ls = objs[o].lines;
+    Stroke st;
+    memset(&st, 0, sizeof st);
+    double len = scaled_points(&st, polys, k, sx, sy);
+    if (st.npts < 2 || len < ls->min_length || len < STROKE_MIN_PIXELS) {
+      free(st.pts); free(st.s);
+      continue;
+    }
+    float dx = st.pts[0] - st.pts[2 * st.npts - 2], dy = st.pts[1] - st.pts[2 * st.npts - 1];
+    if (st.npts >= 4 && dx * dx + dy * dy < 0.25f) {   /* a loop: ribs wrap around */
+      st.closed = 1;
+      st.pts[2 * st.npts - 2] = st.pts[0];
+      st.pts[2 * st.npts - 1] = st.pts[1];
+    }
+    st.obj = o;
+    st.object_id = objs[o].id;
+    st.kind = ls->stroke == STROKE_PLAIN ? STROKE_PLAIN : STROKE_RIBBON;
+    st.width = (float)(ls->width > 0 ? ls->width : 0);
+    st.color = ls->color;
+    st.opacity = (float)clampf((float)ls->opacity, 0, 1);
+    const char *tex = ls->texture;
+    if (tex && strcmp(tex, "solid") == 0) st.solid = 1;
+    else if (tex && strcmp(tex, "ink") != 0 && st.kind == STROKE_RIBBON) {
+      st.texture = texture_get(sl, tex, err, errlen);
+      if (!st.texture) {
+        free(st.pts); free(st.s); free(made);
+        stroke_list_free(sl);
+        return 0;
+      }
+    }
+    Rng r;
+    rng_seed_key(&r, LINE_STROKE_SEED, (uint32_t)objs[o].id, (uint32_t)made[o]++);
+    for (int j = 0; j < 4; j++) st.phase[j] = (float)(rng_uniform(&r) * 1024.0);
+    if (st.kind == STROKE_RIBBON) build_ribs(&st, ls->miter_limit);
+    stroke_box(&st);
+    sl->s = xgrow(sl->s, &sl->cap, sl->n + 1, sizeof *sl->s);
+    sl->s[sl->n++] = st;
+  }
+  free(made);
+  *out = sl;
+  return 1;
+}
+
+void stroke_list_free(StrokeList *sl) {
+  if (!sl) return;
+  for (int i = 0; i < sl->n; i++) {
+    free(sl->s[i].pts); free(sl->s[i].s); free(sl->s[i].left); free(sl->s[i].right);
+  }
+  for (int i = 0; i < sl->ntex; i++) { image_destroy(sl->tex[i]); free(sl->tex_name[i]); }
+  free(sl->s);
+  free(sl->tex);
+  free(sl->tex_name);
+  free(sl);
+}
+
+/* ---- coverage ---------------------------------------------------------------- */
+
+/* A band of rows [y0, y1) of the target and the coverage of the stroke
+** being drawn (max-combined, so overlapping pieces do not darken). */
+typedef struct Band {
+  int w, y0, y1;
+  float *cov;   /* w * (y1 - y0) */
+  int *lo, *hi; /* per row: the columns the stroke touched (lo > hi: none) */
+} Band;
+
+/* Pixel rows/columns of the box [x0, x1] x [y0, y1] inside the band. */
+static int band_clip(const Band *b, float x0, float y0, float x1, float y1, int *xa, int *ya,
+                     int *xb, int *yb) {
+  *xa = (int)fmaxf(0, floorf(x0));
+  *xb = (int)fminf((float)(b->w - 1), ceilf(x1));
+  *ya = (int)fmaxf((float)b->y0, floorf(y0));
+  *yb = (int)fminf((float)(b->y1 - 1), ceilf(y1));
+  return *xa <= *xb && *ya <= *yb;
+}
+
+static void cov_max(const Band *b, int x, int y, float a) {
+  int r = y - b->y0;
+  float *c = &b->cov[(size_t)r * b->w + x];
+  if (a > *c) *c = a;
+  if (x < b->lo[r]) b->lo[r] = x;
+  if (x > b->hi[r]) b->hi[r] = x;
+}
+
+/* A half-plane nx * px + ny * py + d >= 0. */
+typedef struct HalfPlane { float nx, ny, d; } HalfPlane;
+
+/* The half-plane of points at least -margin from the line through (ax, ay)
+** with unit normal (nx, ny), on its positive side. */
+static HalfPlane half_plane(float ax, float ay, float nx, float ny, float margin) {
+  HalfPlane h = {nx, ny, -(ax * nx + ay * ny) + margin};
+  return h;
+}
+
+/* Columns [*xa, *xb] of row y whose pixel centres lie in every half-plane
+** of hp, within [xa0, xb0]; 0 when none. Keeps the per-pixel
+** loops of long, thin pieces to the pixels near them, not their boxes. */
+static int row_span(const HalfPlane *hp, int n, int y, int xa0, int xb0, int *xa, int *xb) {
+  float py = y + 0.5f, lo = (float)xa0 + 0.5f, hi = (float)xb0 + 0.5f;
+  for (int k = 0; k < n; k++) {
+    float r = hp[k].ny * py + hp[k].d;   /* nx * px + r >= 0 */
+    if (hp[k].nx > 1e-6f) lo = fmaxf(lo, -r / hp[k].nx);
+    else if (hp[k].nx < -1e-6f) hi = fminf(hi, -r / hp[k].nx);
+    else if (r < 0) return 0;
+  }
+  if (lo > hi) return 0;
+  *xa = (int)ceilf(lo - 0.5f);
+  *xb = (int)floorf(hi - 0.5f);
+  if (*xa < xa0) *xa = xa0;
+  if (*xb > xb0) *xb = xb0;
+  return *xa <= *xb;
+}
+
+/* Plain: the union of capsules of radius width / 2 around the segments. */
+static void cover_plain(const Band *b, const Stroke *st) {
+  float hw = st->width * 0.5f;
+  for (int i = 0; i + 1 < st->npts; i++) {
+    float ax = st->pts[2 * i], ay = st->pts[2 * i + 1], bx = st->pts[2 * i + 2], by = st->pts[2 * i + 3];
+    int xa, ya, xb, yb;
+    float pad = hw + 1.5f;
+    if (!band_clip(b, fminf(ax, bx) - pad, fminf(ay, by) - pad, fmaxf(ax, bx) + pad, fmaxf(ay, by) + pad,
+                   &xa, &ya, &xb, &yb))
+      continue;
+    float ex = bx - ax, ey = by - ay, ee = ex * ex + ey * ey, el = sqrtf(ee);
+    float ux = el > 0 ? ex / el : 1, uy = el > 0 ? ey / el : 0;
+    HalfPlane hp[4] = {half_plane(ax, ay, ux, uy, pad), half_plane(bx, by, -ux, -uy, pad),
+                       half_plane(ax, ay, -uy, ux, pad), half_plane(ax, ay, uy, -ux, pad)};
+    for (int y = ya; y <= yb; y++) {
+      int x0, x1;
+      if (!row_span(hp, 4, y, xa, xb, &x0, &x1)) continue;
+      for (int x = x0; x <= x1; x++) {
+        float px = x + 0.5f - ax, py = y + 0.5f - ay;
+        float t = ee > 0 ? clampf((px * ex + py * ey) / ee, 0, 1) : 0;
+        float qx = px - t * ex, qy = py - t * ey, d = sqrtf(qx * qx + qy * qy);
+        float a = st->width >= 1 ? clampf(hw + 0.5f - d, 0, 1) : st->width * clampf(1 - d, 0, 1);
+        if (a > 0) cov_max(b, x, y, a);
+      }
+    }
+  }
+}
+
+/* Signed distance of p from the line through a with unit normal n. */
+static float side(float px, float py, float ax, float ay, float nx, float ny) {
+  return (px - ax) * nx + (py - ay) * ny;
+}
+
+/* The inward unit normal of the side a -> b of a strip whose other side is
+** at c. */
+static void inward(float ax, float ay, float bx, float by, float cx, float cy, float *nx, float *ny) {
+  float ex = bx - ax, ey = by - ay, l = sqrtf(ex * ex + ey * ey);
+  if (l < 1e-9f) { ex = cx - ax; ey = cy - ay; l = sqrtf(ex * ex + ey * ey); *nx = ex / l; *ny = ey / l; return; }
+  *nx = -ey / l; *ny = ex / l;
+  if ((cx - ax) * *nx + (cy - ay) * *ny < 0) { *nx = -*nx; *ny = -*ny; }
+}
+
+/* Ribbon quad i: between rib i and rib i + 1 (hard edges there, so
+** neighbours share them exactly), antialiased along its two sides and at
+** the strip's open ends. */
+static void cover_quad(const Band *b, const Stroke *st, int i) {
+  const float *L = st->left, *R = st->right, *P = st->pts;
+  int last = st->npts - 2;
+  int cap0 = i == 0 && !st->closed, cap1 = i == last && !st->closed;
+  float d0x, d0y, d1x, d1y;   /* tangents at the ribs: perpendicular to them */
+  float rx = L[2 * i] - R[2 * i], ry = L[2 * i + 1] - R[2 * i + 1], rl = sqrtf(rx * rx + ry * ry);
+  if (rl < 1e-9f) return;
+  d0x = ry / rl; d0y = -rx / rl;
+  rx = L[2 * i + 2] - R[2 * i + 2]; ry = L[2 * i + 3] - R[2 * i + 3]; rl = sqrtf(rx * rx + ry * ry);
+  if (rl < 1e-9f) return;
+  d1x = ry / rl; d1y = -rx / rl;
+  float nlx, nly, nrx, nry;
+  inward(L[2 * i], L[2 * i + 1], L[2 * i + 2], L[2 * i + 3], R[2 * i], R[2 * i + 1], &nlx, &nly);
+  inward(R[2 * i], R[2 * i + 1], R[2 * i + 2], R[2 * i + 3], L[2 * i], L[2 * i + 1], &nrx, &nry);
+  float x0 = fminf(fminf(L[2 * i], L[2 * i + 2]), fminf(R[2 * i], R[2 * i + 2])) - 1;
+  float x1 = fmaxf(fmaxf(L[2 * i], L[2 * i + 2]), fmaxf(R[2 * i], R[2 * i + 2])) + 1;
+  float y0 = fminf(fminf(L[2 * i + 1], L[2 * i + 3]), fminf(R[2 * i + 1], R[2 * i + 3])) - 1;
+  float y1 = fmaxf(fmaxf(L[2 * i + 1], L[2 * i + 3]), fmaxf(R[2 * i + 1], R[2 * i + 3])) + 1;
+  int xa, ya, xb, yb;
+  if (!band_clip(b, x0, y0, x1, y1, &xa, &ya, &xb, &yb)) return;
+  float s0 = st->s[i], s1 = st->s[i + 1];
+  HalfPlane hp[4] = {half_plane(P[2 * i], P[2 * i + 1], d0x, d0y, 1),
+                     half_plane(P[2 * i + 2], P[2 * i + 3], -d1x, -d1y, 1),
+                     half_plane(L[2 * i], L[2 * i + 1], nlx, nly, 1),
+                     half_plane(R[2 * i], R[2 * i + 1], nrx, nry, 1)};
+  for (int y = ya; y <= yb; y++) {
+    int ra, rb;
+    if (!row_span(hp, 4, y, xa, xb, &ra, &rb)) continue;
+    for (int x = ra; x <= rb; x++) {
+      float px = x + 0.5f, py = y + 0.5f, capcov = 1;
+      float fa = side(px, py, P[2 * i], P[2 * i + 1], d0x, d0y);
+      float fb = side(px, py, P[2 * i + 2], P[2 * i + 3], d1x, d1y);
+      if (cap0) { if (fa < -0.5f) continue; capcov *= clampf(fa + 0.5f, 0, 1); }
+      else if (fa < 0) continue;
+      if (cap1) { if (fb > 0.5f) continue; capcov *= clampf(0.5f - fb, 0, 1); }
+      else if (fb > 0) continue;
+      float dl = side(px, py, L[2 * i], L[2 * i + 1], nlx, nly);
+      float dr = side(px, py, R[2 * i], R[2 * i + 1], nrx, nry);
+      if (dl < -0.5f || dr < -0.5f) continue;
+      float cov = clampf(dl + 0.5f, 0, 1) * clampf(dr + 0.5f, 0, 1) * capcov;
+      float t = fa - fb > 1e-6f ? clampf(fa / (fa - fb), 0, 1) : 0;
+      float v = dl + dr > 1e-6f ? clampf(dr / (dl + dr), 0, 1) : 0.5f;
+      float a = cov * texture_at(st, s0 + t * (s1 - s0), v);
+      if (a > 0) cov_max(b, x, y, a);
+    }
+  }
+}
+
+/* A round join of radius width / 2 at inner point i: fills the inside of
+** sharp turns where neighbouring quads' ribs cross. */
+static void cover_join(const Band *b, const Stroke *st, int i) {
+  float hw = st->width * 0.5f, cx = st->pts[2 * i], cy = st->pts[2 * i + 1];
+  float rx = st->left[2 * i] - cx, ry = st->left[2 * i + 1] - cy, rl = sqrtf(rx * rx + ry * ry);
+  if (hw <= 0 || rl < 1e-9f) return;
+  rx /= rl; ry /= rl;
+  int xa, ya, xb, yb;
+  if (!band_clip(b, cx - hw - 1, cy - hw - 1, cx + hw + 1, cy + hw + 1, &xa, &ya, &xb, &yb)) return;
+  for (int y = ya; y <= yb; y++)
+    for (int x = xa; x <= xb; x++) {
+      float px = x + 0.5f - cx, py = y + 0.5f - cy, d = sqrtf(px * px + py * py);
+      float cov = clampf(hw + 0.5f - d, 0, 1);
+      if (cov <= 0) continue;
+      float v = clampf(0.5f + 0.5f * (px * rx + py * ry) / hw, 0, 1);
+      cov_max(b, x, y, cov * texture_at(st, st->s[i], v));
+    }
+}
+
+/* Composite the band's coverage of st (rows ya..yb, the columns it
+** touched) over the target, and clear it for the next stroke. */
+static void composite(const Band *b, const Stroke *st, Image *target, int ya, int yb) {
+  int ch = target->channels, alpha = image_alpha_channel(target), ncol = ch >= 3 ? 3 : 1;
+  float col[3] = {st->color.r, st->color.g, st->color.b};
+  if (ch < 3) col[0] = st->color.g;
+  for (int y = ya; y <= yb; y++) {
+    int r = y - b->y0;
+    float *c = &b->cov[(size_t)r * b->w];
+    float *px = target->data + ((size_t)y * target->width) * ch;
+    for (int x = b->lo[r]; x <= b->hi[r]; x++) {
+      float a = c[x] * st->opacity;
+      c[x] = 0;
+      if (a <= 0) continue;
+      float *p = px + (size_t)x * ch;
+      for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
+      if (alpha >= 0) p[alpha] = p[alpha] + a * (1 - p[alpha]);
+    }
+    b->lo[r] = b->w;
+    b->hi[r] = -1;
+  }
+}
+
+typedef struct StrokeJob {
+  const StrokeList *sl;
+  Image *target;
+  int nbands;
+  float **cov;      /* per worker: a band's coverage buffer */
+  int **rows;       /* per worker: 2 * band_h column bounds */
+  int band_h;
+} StrokeJob;
+
+static void stroke_band(void *ctx, int band, int worker) {
+  StrokeJob *j = ctx;
+  Band b = {j->target->width, band * j->band_h, (band + 1) * j->band_h, j->cov[worker],
+            j->rows[worker], j->rows[worker] + j->band_h};
+  if (b.y1 > j->target->height) b.y1 = j->target->height;
+  for (int r = 0; r < j->band_h; r++) { b.lo[r] = b.w; b.hi[r] = -1; }
+  for (int k = 0; k < j->sl->n; k++) {
+    const Stroke *st = &j->sl->s[k];
+    int xa, ya, xb, yb;
+    if (!band_clip(&b, st->box[0], st->box[1], st->box[2], st->box[3], &xa, &ya, &xb, &yb)) continue;
+    if (st->kind == STROKE_PLAIN) {
+      cover_plain(&b, st);
+    } else {
+      for (int i = 0; i + 1 < st->npts; i++) cover_quad(&b, st, i);
+      for (int i = 1; i + 1 < st->npts; i++) cover_join(&b, st, i);
+      if (st->closed) cover_join(&b, st, 0);
+    }
+    composite(&b, st, j->target, ya, yb);
+  }
+}
+
+void stroke_render(const StrokeList *sl, Image *target, int threads) {
+  if (!sl || sl->n == 0 || target->width < 1 || target->height < 1) return;
+  if (threads < 1) threads = 1;
+  int nbands = threads > 1 ? threads * 4 : 1;
+  if (nbands > target->height) nbands = target->height;
+  int band_h = (target->height + nbands - 1) / nbands;
+  nbands = (target->height + band_h - 1) / band_h;
+  int nw = threads < nbands ? threads : nbands;
+  StrokeJob job = {sl, target, nbands, xmalloc((size_t)nw * sizeof(float *)),
+                   xmalloc((size_t)nw * sizeof(int *)), band_h};
+  for (int w = 0; w < nw; w++) {
+    job.cov[w] = line_big_zalloc((size_t)target->width * band_h * sizeof(float));
+    job.rows[w] = xmalloc((size_t)band_h * 2 * sizeof(int));
+  }
+  line_parallel(nbands, nw, stroke_band, &job);
+  for (int w = 0; w < nw; w++) {
+    line_big_free(job.cov[w], (size_t)target->width * band_h * sizeof(float));
+    free(job.rows[w]);
+  }
+  free(job.cov);
+  free(job.rows);
+}

@@ -1,0 +1,67 @@
+/*
+** The evaluated scene: initialisation, the default style, and lookups the
+** render stages share.
+*/
+#include "scene.h"
+
+#include <string.h>
+
+void scene_init(Scene *s) {
+  memset(s, 0, sizeof *s);
+  arena_init(&s->arena);
+  s->output.samples = 1;
+  s->output.background = (Color){1, 1, 1, 1};
+  s->output.loc = src_none();
+  s->camera.up = v3(0, 0, 1);
+  s->camera.fov = 30;
+  s->camera.loc = src_none();
+}
+
+void scene_free(Scene *s) {
+  arena_free(&s->arena);
+  memset(s, 0, sizeof *s);
+}
+
+/* Light grey toon with silhouettes and creases: the values are the schema's
+** defaults (src/lang/schema.c) for a style that sets nothing but those. */
+SceneStyle scene_default_style(void) {
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.base = (Color){0.6f, 0.6f, 0.6f, 1};
+  st.shade.kind = SHADE_TOON;
+  st.shade.toon.bands = 3;
+  st.shade.toon.threshold = 0.5;
+  st.shade.toon.shininess = 32;
+  st.shade.toon.specular_bands = 2;
+  st.shade.toon.specular_threshold = 0.5;
+  st.shade.toon.ambient = 0.1;
+  st.shade.origami_color = (Color){1, 1, 0.95f, 1};
+  st.shade.origami_weights[0] = 0.675;
+  st.shade.origami_weights[1] = 0.225;
+  st.shade.origami_weights[2] = 0.15;
+  st.shade.origami_radius = 8;
+  st.shade.loc = src_none();
+  SceneLines *l = &st.lines;
+  l->present = 1;
+  l->kinds = EDGE_SILHOUETTE | EDGE_CREASE | EDGE_BOUNDARY;
+  l->crease_angle = 40;
+  l->width = 1.5;
+  l->color = (Color){0.0075f, 0.0075f, 0.0075f, 1};
+  l->opacity = 1;
+  l->ref_scale = 1;
+  l->search_width = 2;
+  l->max_misses = 2;
+  l->link_depth = 3;
+  l->link_angle = 40;
+  l->miter_limit = 4;
+  l->min_length = 4;
+  l->loc = src_none();
+  st.loc = src_none();
+  return st;
+}
+
+const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const char *name) {
+  for (int i = s->nparams - 1; i >= 0; i--)   /* the last one given wins */
+    if (strcmp(s->params[i].pass, pass) == 0 && strcmp(s->params[i].name, name) == 0) return &s->params[i];
+  return NULL;
+}

@@ -1,0 +1,577 @@
+/*
+** Unit tests of image I/O (src/io/image.c and the OpenImageIO bridge):
+** exact sRGB coding, round trips through every format, unassociated alpha,
+** the temporary-file rule, AOV and id outputs, and bad files that must give
+** an error rather than a crash. Files go under a fresh build/ directory.
+*/
+#include "../../src/io/image.h"
+#include "unit.h"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+static char dir[64];
+
+/* dir/name into a static buffer (one live result at a time per slot). */
+static const char *tmp_path(const char *name) {
+  static char bufs[4][256];
+  static int slot;
+  char *b = bufs[slot++ & 3];
+  snprintf(b, 256, "%s/%s", dir, name);
+  return b;
+}
+
+/* Entries in directory d other than . and .., or -1 if it cannot be read. */
+static int count_entries(const char *d) {
+  DIR *dp = opendir(d);
+  if (!dp) return -1;
+  int n = 0;
+  struct dirent *e;
+  while ((e = readdir(dp)))
+    if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
+  closedir(dp);
+  return n;
+}
+
+/* Remove every plain file in d, then d (directories one level deep). */
+static void remove_tree(const char *d) {
+  DIR *dp = opendir(d);
+  if (!dp) return;
+  struct dirent *e;
+  char p[512];
+  while ((e = readdir(dp))) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+    snprintf(p, sizeof p, "%s/%s", d, e->d_name);
+    struct stat st;
+    if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode)) {
+      chmod(p, 0755);
+      remove_tree(p);
+    } else {
+      unlink(p);
+    }
+  }
+  closedir(dp);
+  rmdir(d);
+}
+
+/* An image whose colour values are exact 8-bit sRGB codes (so a round trip
+** through an 8-bit file is exact), alpha exact k/255. */
+static Image *coded_image(int w, int h, int ch, unsigned seed) {
+  Image *img = image_create(w, h, ch);
+  int ac = image_alpha_channel(img);
+  size_t n = (size_t)w * h * ch;
+  for (size_t i = 0; i < n; i++) {
+    seed = seed * 1103515245u + 12345u;
+    int k = (int)((seed >> 16) & 255);
+    img->data[i] = (int)(i % ch) == ac ? k / 255.0f : image_srgb8_to_linear(k);
+  }
+  return img;
+}
+
+static int same_pixels(const Image *a, const Image *b) {
+  if (a->width != b->width || a->height != b->height || a->channels != b->channels) return 0;
+  size_t n = (size_t)a->width * a->height * a->channels;
+  return memcmp(a->data, b->data, n * sizeof(float)) == 0;
+}
+
+static int file_bytes_equal(const char *p, const char *q) {
+  FILE *f = fopen(p, "rb"), *g = fopen(q, "rb");
+  int same = f && g;
+  while (same) {
+    int a = fgetc(f), b = fgetc(g);
+    if (a != b) same = 0;
+    if (a == EOF) break;
+  }
+  if (f) fclose(f);
+  if (g) fclose(g);
+  return same;
+}
+
+/* ---- sRGB coding ------------------------------------------------------ */
+
+TEST(srgb_known_values) {
+  CHECK_EQ_INT(image_linear_to_srgb8(0.5f), 188);
+  CHECK_EQ_INT(image_linear_to_srgb8(0.0f), 0);
+  CHECK_EQ_INT(image_linear_to_srgb8(1.0f), 255);
+  CHECK_EQ_INT(image_linear_to_srgb8(0.18f), 118);        /* middle grey */
+  CHECK_EQ_INT(image_linear_to_srgb8(0.0031308f), 10);    /* end of the linear segment */
+  CHECK_EQ_INT(image_linear_to_srgb8(-1.0f), 0);
+  CHECK_EQ_INT(image_linear_to_srgb8(7.0f), 255);
+  CHECK_EQ_INT(image_linear_to_srgb8(NAN), 0);
+  CHECK_NEAR(image_srgb8_to_linear(188), 0.50289, 1e-5);
+  CHECK_NEAR(image_srgb8_to_linear(128), 0.21586, 1e-5);
+  CHECK_NEAR(image_srgb8_to_linear(10), 10 / 255.0 / 12.92, 1e-9);
+  CHECK(image_srgb8_to_linear(0) == 0.0f);
+  CHECK(image_srgb8_to_linear(255) == 1.0f);
+}
+
+/* Every code decodes to a value that encodes back to the same code, and
+** decoding is strictly increasing. */
+TEST(srgb_codes_round_trip) {
+  for (int k = 0; k < 256; k++) {
+    CHECK_EQ_INT(image_linear_to_srgb8(image_srgb8_to_linear(k)), k);
+    if (k > 0) CHECK(image_srgb8_to_linear(k) > image_srgb8_to_linear(k - 1));
+  }
+}
+
+/* The table-driven encoder equals round(255 * srgb(v)) computed directly,
+** away from the half-code boundaries where double rounding could tie. */
+TEST(srgb_encoder_matches_formula) {
+  unsigned seed = 1;
+  int checked = 0;
+  for (int i = 0; i < 200000; i++) {
+    seed = seed * 1664525u + 1013904223u;
+    float v = (float)((seed >> 8) / 16777216.0);
+    if (i & 1) v = v * v * v;                       /* many dark values too */
+    double s = v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1 / 2.4) - 0.055;
+    double x = s * 255.0;
+    if (fabs(x - floor(x) - 0.5) < 1e-6) continue;
+    CHECK_EQ_INT(image_linear_to_srgb8(v), (int)floor(x + 0.5));
+    checked++;
+  }
+  CHECK(checked > 199000);
+}
+
+/* ---- round trips ------------------------------------------------------ */
+
+static void round_trip_exact(const char *name, int ch) {
+  char err[512] = "";
+  Image *img = coded_image(37, 23, ch, (unsigned)ch * 7u), *back = NULL;
+  const char *p = tmp_path(name);
+  CHECK(image_write(p, img, err, sizeof err));
+  CHECK(image_read(p, &back, err, sizeof err));
+  if (err[0]) fprintf(stderr, "  %s: %s\n", name, err);
+  CHECK(back && same_pixels(img, back));
+  image_destroy(img);
+  image_destroy(back);
+}
+
+TEST(png_round_trip_exact) {
+  round_trip_exact("grey.png", 1);
+  round_trip_exact("grey_alpha.png", 2);
+  round_trip_exact("rgb.png", 3);
+  round_trip_exact("rgba.png", 4);
+}
+
+TEST(tiff_round_trip_exact) {
+  round_trip_exact("rgb.tif", 3);
+  round_trip_exact("rgba.tiff", 4);
+  round_trip_exact("UPPER.TIF", 3);
+}
+
+TEST(png16_round_trip) {
+  char err[512] = "";
+  Image *img = image_create(16, 8, 3), *back = NULL;
+  for (int i = 0; i < 16 * 8 * 3; i++) img->data[i] = (float)i / (16 * 8 * 3);
+  ImageWriteOptions opt = { .bits = 16 };
+  CHECK(image_write_opts(tmp_path("deep.png"), img, &opt, err, sizeof err));
+  CHECK(image_read(tmp_path("deep.png"), &back, err, sizeof err));
+  for (int i = 0; back && i < 16 * 8 * 3; i++) CHECK_NEAR(back->data[i], img->data[i], 2e-5);
+  image_destroy(img);
+  image_destroy(back);
+}
+
+/* Arbitrary floats, negative and above 1 included, come back bit for bit. */
+TEST(exr_round_trip_exact_float) {
+  char err[512] = "";
+  Image *img = image_create(19, 11, 3), *back = NULL;
+  unsigned seed = 3;
+  for (int i = 0; i < 19 * 11 * 3; i++) {
+    seed = seed * 1664525u + 1013904223u;
+    img->data[i] = ((int)(seed >> 8) - (1 << 23)) / 1234567.0f;
+  }
+  CHECK(image_write(tmp_path("f.exr"), img, err, sizeof err));
+  CHECK(image_read(tmp_path("f.exr"), &back, err, sizeof err));
+  CHECK(back && same_pixels(img, back));
+  image_destroy(back);
+
+  ImageWriteOptions half = { .exr_half = 1 };
+  CHECK(image_write_opts(tmp_path("h.exr"), img, &half, err, sizeof err));
+  CHECK(image_read(tmp_path("h.exr"), &back, err, sizeof err));
+  for (int i = 0; back && i < 19 * 11 * 3; i++)
+    CHECK_NEAR(back->data[i], img->data[i], fabs(img->data[i]) * 1e-3 + 1e-7);
+  image_destroy(back);
+  image_destroy(img);
+}
+
+/* JPEG is lossy: a smooth image comes back within a few codes. */
+TEST(jpeg_round_trip_close) {
+  char err[512] = "";
+  Image *img = image_create(64, 48, 3), *back = NULL;
+  for (int y = 0; y < 48; y++)
+    for (int x = 0; x < 64; x++) {
+      float *p = img->data + (y * 64 + x) * 3;
+      p[0] = image_srgb8_to_linear(x * 4);
+      p[1] = image_srgb8_to_linear(y * 5);
+      p[2] = image_srgb8_to_linear(128);
+    }
+  CHECK(image_write(tmp_path("smooth.jpg"), img, err, sizeof err));
+  CHECK(image_read(tmp_path("smooth.jpeg.jpg"), &back, err, sizeof err) == 0);
+  CHECK(image_read(tmp_path("smooth.jpg"), &back, err, sizeof err));
+  CHECK(back && back->channels == 3);
+  int maxd = 0;
+  for (int i = 0; back && i < 64 * 48 * 3; i++) {
+    int d = abs(image_linear_to_srgb8(back->data[i]) - image_linear_to_srgb8(img->data[i]));
+    if (d > maxd) maxd = d;
+  }
+  CHECK(maxd <= 6);
+  image_destroy(back);
+
+  /* alpha is dropped, not an error */
+  Image *rgba = coded_image(8, 8, 4, 5);
+  CHECK(image_write(tmp_path("rgba.jpg"), rgba, err, sizeof err));
+  CHECK(image_read(tmp_path("rgba.jpg"), &back, err, sizeof err));
+  CHECK(back && back->channels == 3);
+  image_destroy(back);
+  image_destroy(rgba);
+  image_destroy(img);
+}
+
+/* ---- alpha ------------------------------------------------------------- */
+
+/* White at alpha 0.5 stays white: nothing premultiplies or divides it. */
+static void check_unassociated(const char *name) {
+  char err[512] = "";
+  Image *img = image_create(2, 1, 4), *back = NULL;
+  float px[8] = { 1.0f, 1.0f, 1.0f, 0.5f, 0.25f, 0.5f, 1.0f, 0.0f };
+  memcpy(img->data, px, sizeof px);
+  CHECK(image_write(tmp_path(name), img, err, sizeof err));
+  CHECK(image_read(tmp_path(name), &back, err, sizeof err));
+  if (!back) { image_destroy(img); return; }
+  CHECK(back->channels == 4);
+  CHECK_NEAR(back->data[0], 1.0, 1e-6);
+  CHECK_NEAR(back->data[2], 1.0, 1e-6);
+  CHECK_NEAR(back->data[3], 0.5, 0.5 / 255 + 1e-6);
+  if (strstr(name, ".exr")) {
+    CHECK(back->data[4] == 0.0f);              /* at alpha 0 EXR keeps no colour */
+  } else {
+    CHECK_EQ_INT(image_linear_to_srgb8(back->data[4]), image_linear_to_srgb8(0.25f));
+    CHECK_EQ_INT(image_linear_to_srgb8(back->data[6]), 255);   /* colour kept at alpha 0 */
+  }
+  CHECK(back->data[7] == 0.0f);
+  image_destroy(back);
+  image_destroy(img);
+}
+
+TEST(alpha_unassociated) {
+  check_unassociated("alpha.png");
+  check_unassociated("alpha.tif");
+  check_unassociated("alpha.exr");
+}
+
+/* ---- the temporary-file rule ----------------------------------------- */
+
+TEST(write_missing_dir_fails_cleanly) {
+  char err[512] = "";
+  Image *img = coded_image(4, 4, 3, 1);
+  CHECK(image_write(tmp_path("nope/out.png"), img, err, sizeof err) == 0);
+  CHECK(strstr(err, "nope/out.png") != NULL);
+  CHECK(strstr(err, "No such file") != NULL);
+  CHECK(access(tmp_path("nope"), F_OK) != 0);
+  image_destroy(img);
+}
+
+/* A parent that is a file, a target that is a directory, and (when not
+** root) a read-only directory: each fails and leaves no file behind. */
+TEST(write_unwritable_fails_cleanly) {
+  char err[512] = "";
+  Image *img = coded_image(4, 4, 3, 1);
+  mkdir(tmp_path("box"), 0755);
+  FILE *f = fopen(tmp_path("box/plain"), "w");
+  if (f) fclose(f);
+  CHECK(image_write(tmp_path("box/plain/out.png"), img, err, sizeof err) == 0);
+  CHECK(strstr(err, "Not a directory") != NULL);
+  mkdir(tmp_path("box/taken.png"), 0755);
+  err[0] = '\0';
+  CHECK(image_write(tmp_path("box/taken.png"), img, err, sizeof err) == 0);
+  CHECK(strstr(err, "taken.png") != NULL);
+  CHECK_EQ_INT(count_entries(tmp_path("box")), 2);      /* plain, taken.png: no temp */
+  CHECK_EQ_INT(count_entries(tmp_path("box/taken.png")), 0);
+  if (geteuid() != 0) {
+    mkdir(tmp_path("ro"), 0555);
+    CHECK(image_write(tmp_path("ro/out.png"), img, err, sizeof err) == 0);
+    CHECK(strstr(err, "Permission denied") != NULL);
+    CHECK_EQ_INT(count_entries(tmp_path("ro")), 0);
+  }
+  image_destroy(img);
+}
+
+/* A write replaces the old file whole and leaves nothing else. */
+TEST(write_replaces_atomically) {
+  char err[512] = "";
+  mkdir(tmp_path("atomic"), 0755);
+  Image *a = coded_image(8, 8, 3, 11), *b = coded_image(9, 5, 3, 12), *back = NULL;
+  CHECK(image_write(tmp_path("atomic/x.png"), a, err, sizeof err));
+  CHECK(image_write(tmp_path("atomic/x.png"), b, err, sizeof err));
+  CHECK_EQ_INT(count_entries(tmp_path("atomic")), 1);
+  CHECK(image_read(tmp_path("atomic/x.png"), &back, err, sizeof err));
+  CHECK(back && same_pixels(b, back));
+  image_destroy(back);
+  image_destroy(a);
+  image_destroy(b);
+}
+
+TEST(write_bad_format_names_it) {
+  char err[512] = "";
+  Image *img = coded_image(4, 4, 3, 1);
+  CHECK(image_write(tmp_path("x.bmp"), img, err, sizeof err) == 0);
+  CHECK(strstr(err, "unknown image format '.bmp'") != NULL);
+  CHECK(image_write(tmp_path("noext"), img, err, sizeof err) == 0);
+  CHECK(strstr(err, "no image format extension") != NULL);
+  CHECK(access(tmp_path("x.bmp"), F_OK) != 0);
+  image_destroy(img);
+}
+
+/* ---- AOVs and ids ------------------------------------------------------ */
+
+TEST(aov_exr_channels) {
+  char err[512] = "";
+  enum { W = 7, H = 5 };
+  float normal[W * H * 3];
+  for (int i = 0; i < W * H * 3; i++) normal[i] = (float)sin(i * 0.37);
+  const char *names[] = { "N.x", "N.y", "N.z" };
+  CHECK(image_write_aov_exr(tmp_path("n.exr"), W, H, 3, names, normal, err, sizeof err));
+  Image *back = NULL;
+  CHECK(image_read(tmp_path("n.exr"), &back, err, sizeof err));
+  CHECK(back && back->channels == 3 && memcmp(back->data, normal, sizeof normal) == 0);
+  image_destroy(back);
+
+  float depth[W * H];
+  for (int i = 0; i < W * H; i++) depth[i] = i * 1.5f + 0.125f;
+  const char *z[] = { "Z" };
+  CHECK(image_write_aov_exr(tmp_path("z.exr"), W, H, 1, z, depth, err, sizeof err));
+  CHECK(image_read(tmp_path("z.exr"), &back, err, sizeof err));
+  CHECK(back && back->channels == 1 && memcmp(back->data, depth, sizeof depth) == 0);
+  image_destroy(back);
+
+  const char *twice[] = { "Z", "Z" };
+  CHECK(image_write_aov_exr(tmp_path("zz.exr"), W, H, 2, twice, normal, err, sizeof err) == 0);
+  CHECK(strstr(err, "appears twice") != NULL);
+  CHECK(access(tmp_path("zz.exr"), F_OK) != 0);
+}
+
+TEST(ids_tiff_exact) {
+  char err[512] = "";
+  enum { W = 9, H = 4 };
+  int32_t ids[W * H];
+  for (int i = 0; i < W * H; i++) ids[i] = i * 99991 - 7;
+  ids[0] = -1;
+  ids[1] = 0x7fffffff;
+  ids[2] = (1 << 24) + 1;                       /* not representable as float */
+  CHECK(image_write_ids_tiff(tmp_path("ids.tif"), W, H, ids, err, sizeof err));
+  int w = 0, h = 0;
+  int32_t *back = NULL;
+  CHECK(image_read_ids(tmp_path("ids.tif"), &w, &h, &back, err, sizeof err));
+  CHECK(w == W && h == H);
+  CHECK(back && memcmp(back, ids, sizeof ids) == 0);
+  free(back);
+}
+
+/* ---- determinism --------------------------------------------------------- */
+
+/* The file holds no trace of today's date (TIFF and EXR writers stamp the
+** time unless told otherwise). */
+static int file_mentions_today(const char *p) {
+  char today[16], buf[1 << 14];
+  time_t t = time(NULL);
+  strftime(today, sizeof today, "%Y:%m:%d", gmtime(&t));
+  FILE *f = fopen(p, "rb");
+  size_t n = f ? fread(buf, 1, sizeof buf, f) : 0;
+  if (f) fclose(f);
+  for (size_t i = 0; i + 10 <= n; i++)
+    if (!memcmp(buf + i, today, 10)) return 1;
+  return 0;
+}
+
+TEST(same_image_same_bytes) {
+  char err[512] = "";
+  Image *img = coded_image(33, 17, 4, 9);
+  const char *ext[] = { "png", "tif", "exr", "jpg" };
+  for (int i = 0; i < 4; i++) {
+    char a[32], b[32];
+    snprintf(a, sizeof a, "det_a.%s", ext[i]);
+    snprintf(b, sizeof b, "det_b.%s", ext[i]);
+    CHECK(image_write(tmp_path(a), img, err, sizeof err));
+    CHECK(image_write(tmp_path(b), img, err, sizeof err));
+    CHECK(file_bytes_equal(tmp_path(a), tmp_path(b)));
+    CHECK(!file_mentions_today(tmp_path(a)));
+  }
+  image_destroy(img);
+}
+
+/* ---- bad files ------------------------------------------------------------ */
+
+static void write_bytes(const char *p, const void *data, size_t n) {
+  FILE *f = fopen(p, "wb");
+  if (!f) return;
+  fwrite(data, 1, n, f);
+  fclose(f);
+}
+
+TEST(read_missing_file) {
+  char err[512] = "";
+  Image *img = (Image *)1;
+  CHECK(image_read(tmp_path("absent.png"), &img, err, sizeof err) == 0);
+  CHECK(img == NULL);
+  CHECK(strstr(err, "absent.png") != NULL && strstr(err, "No such file") != NULL);
+  CHECK(image_read(dir, &img, err, sizeof err) == 0);
+  CHECK(strstr(err, "is a directory") != NULL);
+}
+
+TEST(read_not_an_image) {
+  char err[512] = "";
+  Image *img = NULL;
+  const char text[] = "scene { camera {} }\n";
+  write_bytes(tmp_path("text.png"), text, sizeof text - 1);
+  CHECK(image_read(tmp_path("text.png"), &img, err, sizeof err) == 0);
+  CHECK(strstr(err, "text.png") != NULL && strstr(err, "not an image") != NULL);
+  write_bytes(tmp_path("empty.png"), "", 0);
+  CHECK(image_read(tmp_path("empty.png"), &img, err, sizeof err) == 0);
+  CHECK(img == NULL);
+}
+
+/* Point stderr at /dev/null (quiet=1) and back (quiet=0): libpng prints
+** "libpng error: ..." itself before OIIO hands us the same reason. */
+static void quiet_stderr(int quiet) {
+  static int saved = -1;
+  fflush(stderr);
+  if (quiet) {
+    int null = open("/dev/null", O_WRONLY);
+    saved = dup(2);
+    if (null >= 0) dup2(null, 2), close(null);
+  } else if (saved >= 0) {
+    dup2(saved, 2);
+    close(saved);
+    saved = -1;
+  }
+}
+
+/* A PNG cut short, one with a damaged data chunk, and one cut inside its
+** header: each is an error naming the file, never a crash. */
+TEST(read_corrupt_png) {
+  char err[3][512] = { "", "", "" };
+  Image *src = coded_image(64, 64, 3, 4), *img[3] = { NULL, NULL, NULL };
+  CHECK(image_write(tmp_path("good.png"), src, err[0], sizeof err[0]));
+  image_destroy(src);
+  FILE *f = fopen(tmp_path("good.png"), "rb");
+  static unsigned char buf[1 << 16];
+  size_t n = f ? fread(buf, 1, sizeof buf, f) : 0;
+  if (f) fclose(f);
+  CHECK(n > 200);
+  write_bytes(tmp_path("cut.png"), buf, n / 2);
+  write_bytes(tmp_path("head.png"), buf, 20);
+  for (size_t i = n / 2; i < n / 2 + 64; i++) buf[i] ^= 0x5a;
+  write_bytes(tmp_path("bad.png"), buf, n);
+
+  const char *names[3] = { "cut.png", "bad.png", "head.png" };
+  int ok[3];
+  quiet_stderr(1);                       /* no CHECK until stderr is back */
+  for (int i = 0; i < 3; i++) ok[i] = image_read(tmp_path(names[i]), &img[i], err[i], sizeof err[i]);
+  quiet_stderr(0);
+  for (int i = 0; i < 3; i++) {
+    CHECK(ok[i] == 0 && img[i] == NULL);
+    CHECK(strstr(err[i], names[i]) != NULL);
+  }
+  CHECK(strstr(err[0], "corrupt") != NULL);
+  CHECK(strstr(err[1], "corrupt") != NULL);
+}
+
+/* CRC-32 as PNG chunks use it (ISO 3309, reflected 0xedb88320). */
+static uint32_t crc32_png(const unsigned char *p, size_t n) {
+  uint32_t c = 0xffffffffu;
+  for (size_t i = 0; i < n; i++) {
+    c ^= p[i];
+    for (int k = 0; k < 8; k++) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+static void put_be32(unsigned char *p, uint32_t v) {
+  p[0] = (unsigned char)(v >> 24), p[1] = (unsigned char)(v >> 16);
+  p[2] = (unsigned char)(v >> 8), p[3] = (unsigned char)v;
+}
+
+/* A valid PNG header claiming 20000 x 20000 pixels crosses
+** IMAGE_READ_MAX_PIXELS and is refused before anything is allocated; an
+** AOV of IMAGE_MAX_CHANNELS + 1 channels is refused on write. */
+TEST(limits) {
+  /* signature, IHDR, an empty IDAT (the reader stops at its header) */
+  unsigned char png[8 + 25 + 12] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+  unsigned char *ihdr = png + 8, *idat = png + 8 + 25;
+  put_be32(ihdr, 13);
+  memcpy(ihdr + 4, "IHDR", 4);
+  put_be32(ihdr + 8, 20000);
+  put_be32(ihdr + 12, 20000);
+  ihdr[16] = 8, ihdr[17] = 2;                   /* 8-bit RGB, rest 0 */
+  put_be32(ihdr + 21, crc32_png(ihdr + 4, 17));
+  memcpy(idat + 4, "IDAT", 4);
+  put_be32(idat + 8, crc32_png(idat + 4, 4));
+  write_bytes(tmp_path("huge.png"), png, sizeof png);
+  char err[512] = "";
+  Image *img = NULL;
+  CHECK(image_read(tmp_path("huge.png"), &img, err, sizeof err) == 0);
+  CHECK(img == NULL);
+  CHECK(strstr(err, "too large") && strstr(err, "20000x20000") &&
+        strstr(err, "IMAGE_READ_MAX_PIXELS"));
+
+  enum { N = IMAGE_MAX_CHANNELS + 1 };
+  const char *names[N];
+  char buf[N][16];
+  float data[4 * N] = { 0 };
+  for (int c = 0; c < N; c++) {
+    snprintf(buf[c], sizeof buf[c], "c%d", c);
+    names[c] = buf[c];
+  }
+  CHECK(image_write_aov_exr(tmp_path("wide.exr"), 2, 2, N, names, data, err, sizeof err) == 0);
+  CHECK(strstr(err, "at most 16") != NULL);
+  CHECK(access(tmp_path("wide.exr"), F_OK) != 0);
+}
+
+/* ---- the bridge ------------------------------------------------------------ */
+
+TEST(bridge_loaded_once) {
+  char err[512] = "";
+  CHECK(image_bridge_load(err, sizeof err));
+  double t = image_bridge_load_seconds();
+  CHECK(t > 0.0);
+  CHECK(image_bridge_load(err, sizeof err));
+  CHECK(image_bridge_load_seconds() == t);
+}
+
+int main(void) {
+  mkdir("build", 0755);
+  snprintf(dir, sizeof dir, "build/test-image-XXXXXX");
+  if (!mkdtemp(dir)) {
+    perror("mkdtemp under build/");
+    return 1;
+  }
+  RUN(srgb_known_values);
+  RUN(srgb_codes_round_trip);
+  RUN(srgb_encoder_matches_formula);
+  RUN(png_round_trip_exact);
+  RUN(tiff_round_trip_exact);
+  RUN(png16_round_trip);
+  RUN(exr_round_trip_exact_float);
+  RUN(jpeg_round_trip_close);
+  RUN(alpha_unassociated);
+  RUN(write_missing_dir_fails_cleanly);
+  RUN(write_unwritable_fails_cleanly);
+  RUN(write_replaces_atomically);
+  RUN(write_bad_format_names_it);
+  RUN(aov_exr_channels);
+  RUN(ids_tiff_exact);
+  RUN(same_image_same_bytes);
+  RUN(read_missing_file);
+  RUN(read_not_an_image);
+  RUN(read_corrupt_png);
+  RUN(limits);
+  RUN(bridge_loaded_once);
+  int status = unit_done();
+  if (status == 0) remove_tree(dir);
+  return status;
+}

@@ -1,0 +1,235 @@
+/*
+** Mesh import through Assimp: polygons kept, positions welded across
+** faces and meshes, clear errors for missing, empty, malformed and
+** polygon-less files. Real models come from the assimp-testmodels package
+** ($SUMI_ASSIMP_MODELS, default its Debian location); those tests skip
+** cleanly where it is not installed.
+*/
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../../src/base/mem.h"
+#include "../../src/io/mesh_import.h"
+#include "unit.h"
+
+static char tmpdir[256];
+
+/* Write text into a fresh file named name inside tmpdir; returns its path. */
+static const char *write_file(const char *name, const char *text) {
+  static char path[512];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  FILE *f = fopen(path, "wb");
+  if (!f) return path;
+  fputs(text, f);
+  fclose(f);
+  return path;
+}
+
+static int import(const char *path, SceneGeometry *g, Arena *a, char *err, size_t errlen) {
+  int ok = mesh_import_file(path, g, a, err, errlen) == 0;
+  if (!ok && getenv("VERBOSE")) fprintf(stderr, "  %s\n", err);
+  return ok;
+}
+
+/* Euler characteristic V - E + F of the imported polygons (E counted by
+** distinct undirected pairs, quadratic: tests only). */
+static int euler(const SceneGeometry *g) {
+  int ne = 0, cap = 0, (*edges)[2] = NULL;
+  for (int f = 0; f < g->nfaces; f++) {
+    int s = g->face_start[f], n = g->face_start[f + 1] - s;
+    for (int k = 0; k < n; k++) {
+      int a = g->face_index[s + k], b = g->face_index[s + (k + 1) % n];
+      if (a > b) { int t = a; a = b; b = t; }
+      int seen = 0;
+      for (int e = 0; e < ne && !seen; e++) seen = edges[e][0] == a && edges[e][1] == b;
+      if (seen) continue;
+      edges = xgrow(edges, &cap, ne + 1, sizeof *edges);
+      edges[ne][0] = a;
+      edges[ne++][1] = b;
+    }
+  }
+  free(edges);
+  return g->nverts - ne + g->nfaces;
+}
+
+/* ---- our own files ---------------------------------------------------------- */
+
+static const char *CUBE_OBJ =
+    "# a unit cube, quads, per-face normals (so corners are split per face)\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+    "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 1 0 0\nvn 0 1 0\nvn -1 0 0\n"
+    "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
+    "f 2//4 3//4 7//4 6//4\nf 3//5 4//5 8//5 7//5\nf 4//6 1//6 5//6 8//6\n";
+
+TEST(obj_cube_quads_welded) {
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g;
+  char err[256];
+  CHECK(import(write_file("cube.obj", CUBE_OBJ), &g, &a, err, sizeof err));
+  CHECK_EQ_INT(g.kind, GEOM_MESH);
+  CHECK_EQ_INT(g.nverts, 8);
+  CHECK_EQ_INT(g.nfaces, 6);
+  for (int f = 0; f < g.nfaces; f++) CHECK_EQ_INT(g.face_start[f + 1] - g.face_start[f], 4);
+  CHECK_EQ_INT(euler(&g), 2);            /* closed: welded across faces */
+  /* vertex numbers as the file's `v` lines (Assimp's own order is first use) */
+  static const double xyz[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (int v = 0; v < 8 && g.nverts == 8; v++) {
+    CHECK_NEAR(g.verts[v].x, xyz[v][0], 0);
+    CHECK_NEAR(g.verts[v].y, xyz[v][1], 0);
+    CHECK_NEAR(g.verts[v].z, xyz[v][2], 0);
+  }
+  static const int face0[4] = {0, 3, 2, 1};   /* "f 1//1 4//1 3//1 2//1" */
+  for (int k = 0; k < 4; k++) CHECK_EQ_INT(g.face_index[g.face_start[0] + k], face0[k]);
+  CHECK_EQ_INT(g.subdiv_level, 0);
+  arena_free(&a);
+}
+
+TEST(obj_pentagon_and_lines) {
+  /* A pentagon stays one face; a line element is dropped. */
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g;
+  char err[256];
+  const char *obj = "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 1 2 0\nv -1 1 0\nf 1 2 3 4 5\nl 1 3\n";
+  CHECK(import(write_file("pent.obj", obj), &g, &a, err, sizeof err));
+  CHECK_EQ_INT(g.nfaces, 1);
+  CHECK_EQ_INT(g.face_start[1], 5);
+  CHECK_NEAR(g.verts[g.face_index[2]].x, 3, 0);
+  arena_free(&a);
+}
+
+TEST(errors_for_bad_files) {
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g;
+  char err[256];
+  char missing[512];
+  snprintf(missing, sizeof missing, "%s/no-such-mesh.obj", tmpdir);
+  CHECK(!import(missing, &g, &a, err, sizeof err));
+  CHECK(strstr(err, "No such file") != NULL);
+
+  CHECK(!import(write_file("empty.obj", ""), &g, &a, err, sizeof err));
+  CHECK(strstr(err, "empty") != NULL);
+
+  CHECK(!import(tmpdir, &g, &a, err, sizeof err));
+  CHECK(strstr(err, "not a regular file") != NULL);
+
+  CHECK(!import(write_file("points.obj", "v 0 0 0\nv 1 0 0\np 1\np 2\n"), &g, &a, err, sizeof err));
+  CHECK(strstr(err, "no polygons") != NULL);
+
+  CHECK(!import(write_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"), &g, &a, err,
+                sizeof err));
+  CHECK(err[0] != 0);
+
+  CHECK(!import(write_file("junk.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 99\n"
+                                       "property float x\nend_header\n\x01\x02"),
+                &g, &a, err, sizeof err));
+  CHECK(strstr(err, "unreadable") != NULL);
+
+  CHECK(!import(write_file("garbage.xyzzy", "\x7f\x45\x4c\x46 not a mesh at all"), &g, &a, err,
+                sizeof err));
+  CHECK(strstr(err, "unreadable") != NULL);
+  CHECK(strchr(err, '\n') == NULL);
+  arena_free(&a);
+}
+
+/* ---- assimp-testmodels ---------------------------------------------------------- */
+
+static const char *models_dir(void) {
+  const char *d = getenv("SUMI_ASSIMP_MODELS");
+  return d ? d : "/usr/share/assimp/models";
+}
+
+/* Path of a test model, or NULL (and a skip line) when it is not installed. */
+static const char *model(const char *rel) {
+  static char path[1024];
+  snprintf(path, sizeof path, "%s/%s", models_dir(), rel);
+  if (access(path, R_OK) != 0) {
+    printf("skip: %s (assimp-testmodels not installed)\n", rel);
+    return NULL;
+  }
+  return path;
+}
+
+TEST(testmodels_read) {
+  static const struct { const char *file; int nverts, nfaces, euler; } cases[] = {
+      {"OBJ/box.obj", 8, 6, 2},
+      {"PLY/cube.ply", 8, 6, 2},
+      {"STL/triangle.stl", 3, 1, 1},
+      {"glTF2/BoxTextured-glTF/BoxTextured.gltf", 8, 12, 2},
+      {"OBJ/spider.obj", -1, -1, 0},
+      /* Assimp drops the one triangle with an index out of range, keeps 11 */
+      {"glTF2/IndexOutOfRange/IndexOutOfRange.gltf", -1, -1, 0},
+      {"PLY/Wuson.ply", -1, -1, 0},
+      {"STL/Spider_binary.stl", -1, -1, 0},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    const char *path = model(cases[i].file);
+    if (!path) continue;
+    Arena a;
+    arena_init(&a);
+    SceneGeometry g;
+    char err[512];
+    int ok = import(path, &g, &a, err, sizeof err);
+    if (!ok) fprintf(stderr, "%s: %s\n", cases[i].file, err);
+    CHECK(ok);
+    if (ok && cases[i].nverts >= 0) {
+      CHECK_EQ_INT(g.nverts, cases[i].nverts);
+      CHECK_EQ_INT(g.nfaces, cases[i].nfaces);
+      CHECK_EQ_INT(euler(&g), cases[i].euler);
+    }
+    if (ok) {
+      CHECK(g.nfaces > 0);
+      for (int k = 0; k < g.face_start[g.nfaces]; k++)
+        CHECK(g.face_index[k] >= 0 && g.face_index[k] < g.nverts);
+    }
+    arena_free(&a);
+  }
+}
+
+TEST(testmodels_broken) {
+  static const char *broken[] = {
+      "invalid/empty.obj", "invalid/empty.ply", "invalid/empty.off", "invalid/empty.x",
+      "OBJ/testpoints.obj",
+      "glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf",
+      "glTF2/MissingBin/BoxTextured.gltf", "OFF/invalid.off",
+  };
+  for (size_t i = 0; i < sizeof broken / sizeof broken[0]; i++) {
+    const char *path = model(broken[i]);
+    if (!path) continue;
+    Arena a;
+    arena_init(&a);
+    SceneGeometry g;
+    char err[512] = "";
+    int ok = import(path, &g, &a, err, sizeof err);
+    if (ok) fprintf(stderr, "%s: imported %d faces, expected an error\n", broken[i], g.nfaces);
+    CHECK(!ok);
+    CHECK(err[0] != 0);
+    arena_free(&a);
+  }
+}
+
+int main(void) {
+  snprintf(tmpdir, sizeof tmpdir, "%s/sumi-import-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+  if (!mkdtemp(tmpdir)) { perror("mkdtemp"); return 1; }
+  RUN(obj_cube_quads_welded);
+  RUN(obj_pentagon_and_lines);
+  RUN(errors_for_bad_files);
+  RUN(testmodels_read);
+  RUN(testmodels_broken);
+  /* remove what we wrote */
+  static const char *files[] = {"cube.obj", "pent.obj", "empty.obj", "points.obj", "range.obj",
+                                "junk.ply", "garbage.xyzzy"};
+  for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", tmpdir, files[i]);
+    remove(p);
+  }
+  rmdir(tmpdir);
+  return unit_done();
+}
