@@ -5,14 +5,15 @@
 #
 #   sh bench/run.sh [path/to/sumi]
 #
-# For each size and thread count: the median wall time of whole runs
-# (hyperfine), the same command at 1x1 pixels (start-up, parsing,
-# tessellation, writing an empty image), and their difference, the
-# rendering work. Ratios: POV-Ray's over sumi's, for the rendering work and
-# for whole processes. Then sumi's per-stage times (--stats) of its median
-# run and its peak RSS. POV-Ray needs `povray`, python3 and the peer
+# For each size and thread count: the median wall time of whole runs, of
+# the same command at 1x1 pixels (start-up, parsing, tessellation, writing
+# an empty image), and the median of their differences, the rendering
+# work; the two commands alternate (bench/pairs.py), so a busy spell of a
+# shared machine falls on both. Ratios: POV-Ray's over sumi's, for the
+# rendering work and for whole processes. Then sumi's per-stage times
+# (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and the peer
 # scripts in $SUMI_SHARED (default ../shared); without them that part is
-# skipped. RUNS sets the runs per command (default 10; POV-Ray gets
+# skipped. RUNS sets the rounds per configuration (default 10; POV-Ray gets
 # RUNS / 2, at least 3).
 set -e
 SUMI=${1:-build/sumi}
@@ -22,7 +23,7 @@ POV_RUNS=$((RUNS / 2 > 3 ? RUNS / 2 : 3))
 DIR=build/bench
 SCENE=bench/teapot_toon.npr
 mkdir -p "$DIR"
-command -v hyperfine >/dev/null || { echo "bench: needs hyperfine (make deps with bench's PEER_PACKAGES)"; exit 1; }
+command -v python3 >/dev/null || { echo "bench: needs python3"; exit 1; }
 "$SUMI" render "$SCENE" -o "$DIR/teapot.png" --quiet   # must succeed before timing anything
 
 pov=""
@@ -33,12 +34,6 @@ if command -v povray >/dev/null && command -v python3 >/dev/null &&
 fi
 [ -n "$pov" ] || echo "bench: POV-Ray or \$SUMI_SHARED/peers missing: sumi only"
 
-# median seconds of a command (hyperfine, runs $1, then the command)
-median() {
-  runs=$1; shift
-  hyperfine -N --style none --warmup 1 --runs "$runs" --export-json "$DIR/hf.json" "$*" >/dev/null 2>&1
-  python3 -c 'import json,sys; print("%.4f" % json.load(open(sys.argv[1]))["results"][0]["median"])' "$DIR/hf.json"
-}
 ms() { python3 -c 'import sys; print("%.1f" % (float(sys.argv[1]) * 1000))' "$1"; }
 ratio() { python3 -c 'import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print("%.1fx" % (a / b) if b > 0 else "-")' "$1" "$2"; }
 
@@ -46,14 +41,14 @@ printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' size thr "sumi ms" "1
 for size in 512x512 1920x1080; do
   W=${size%x*}; H=${size#*x}
   for t in 1 2; do
-    s_run=$(median "$RUNS" "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --quiet)
-    s_one=$(median "$RUNS" "$SUMI" render "$SCENE" -o "$DIR/s1.png" -W 1 -H 1 --threads "$t" --quiet)
-    s_work=$(python3 -c "print($s_run - $s_one)")
+    set -- $(python3 bench/pairs.py "$RUNS" -- "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --quiet \
+                                    -- "$SUMI" render "$SCENE" -o "$DIR/s1.png" -W 1 -H 1 --threads "$t" --quiet)
+    s_run=$1; s_one=$2; s_work=$3
     eval "work_${W}_$t=$s_work"
     if [ -n "$pov" ]; then
-      p_run=$(median "$POV_RUNS" povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t")
-      p_one=$(median "$POV_RUNS" povray +I"$DIR/teapot.pov" +O"$DIR/p1.png" +FN +W1 +H1 -D -A +WT"$t")
-      p_work=$(python3 -c "print($p_run - $p_one)")
+      set -- $(python3 bench/pairs.py "$POV_RUNS" -- povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t" \
+                                      -- povray +I"$DIR/teapot.pov" +O"$DIR/p1.png" +FN +W1 +H1 -D -A +WT"$t")
+      p_run=$1; p_one=$2; p_work=$3
       printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
         "$(ms "$s_work")" "$(ms "$p_run")" "$(ms "$p_one")" "$(ms "$p_work")" "$(ratio "$p_work" "$s_work")" \
         "$(ratio "$p_run" "$s_run")"
@@ -65,20 +60,32 @@ for size in 512x512 1920x1080; do
   eval "w1=\$work_${W}_1; w2=\$work_${W}_2"
   echo "  $size: sumi 2 threads vs 1 (rendering work): $(ratio "$w1" "$w2")"
 done
-echo "(median of $RUNS runs for sumi, $POV_RUNS for POV-Ray; work = run - the same command at 1x1;"
+echo "(medians of $RUNS rounds for sumi, $POV_RUNS for POV-Ray; work = median of run - the same command at 1x1;"
 echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
 
-# Per-stage times: the --stats of the median of 5 runs by total wall time.
+# Per-stage times: each stage's median over 7 runs of --stats.
 for size in 512x512 1920x1080; do
   W=${size%x*}; H=${size#*x}
   for t in 1 2; do
-    for i in 1 2 3 4 5; do
-      /usr/bin/time -f "%e" -o "$DIR/st.$i.time" \
-        "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --stats --quiet 2>"$DIR/st.$i.txt"
+    : >"$DIR/stats.txt"
+    for i in 1 2 3 4 5 6 7; do
+      "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --stats --quiet 2>>"$DIR/stats.txt"
     done
-    med=$(for i in 1 2 3 4 5; do echo "$(cat "$DIR/st.$i.time") $i"; done | sort -n | sed -n 3p | cut -d' ' -f2)
-    echo "sumi $size, $t thread(s), per stage (median run of 5):"
-    grep '^stats:' "$DIR/st.$med.txt" | sed 's/^stats: /  /'
+    echo "sumi $size, $t thread(s), per stage (median of 7 runs):"
+    python3 - "$DIR/stats.txt" <<'PY'
+import re, statistics, sys
+vals, order, unit = {}, [], {}
+for line in open(sys.argv[1]):
+    m = re.match(r"stats: (.+?)\s{2,}([0-9.]+) (ms cpu|ms|MiB)", line)
+    if not m:
+        continue
+    name = m.group(1).strip()
+    if name not in vals:
+        vals[name] = []; order.append(name); unit[name] = m.group(3)
+    vals[name].append(float(m.group(2)))
+for name in order:
+    print("  %-16s %9.2f %s" % (name, statistics.median(vals[name]), unit[name]))
+PY
   done
 done
 

@@ -21,8 +21,10 @@
 #include "lang/diag.h"
 #include "lang/eval.h"
 #include "lang/parse.h"
+#include "io/image.h"
 #include "render/render.h"
 #include "render/stats.h"
+#include "render/svg.h"
 
 #define SUMI_VERSION "0.1.0"
 
@@ -311,12 +313,17 @@ static int cmd_render(const Options *o) {
     ro.stats = o->stats;
     Image *img = NULL;
     GBuffer *gb = NULL;
-    if (render_scene(&scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
+    const char *ext = strrchr(o->output, '.');
+    if (ext && !strcmp(ext, ".svg")) {   /* line art: the line stage writes it (render/svg.h) */
+      status = svg_render_scene(&scene, &ro, o->output);
+    } else if (render_scene(&scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
       char err[512];
       double t2 = now_seconds();
       status = image_write(o->output, img, err, sizeof err) ? 0 : 1;
       if (status) fprintf(stderr, "sumi: %s\n", err);
-      stats_record("write", now_seconds() - t2);
+      double load = image_bridge_load_seconds();   /* dlopen of OpenImageIO, on first use */
+      stats_record("image library", load);
+      stats_record("write", now_seconds() - t2 - load);
       if (!status && gb && !render_write_aovs(gb, o->output, o->aov, err, sizeof err)) {
         fprintf(stderr, "sumi: %s\n", err);
         status = 1;

@@ -5,6 +5,7 @@
 #   tests/errors/x.npr  -> x.err  "exit: N", then stdout and stderr of `sumi check x.npr`
 #   tests/eval/x.npr    -> x.out  "exit: N", then stdout and stderr of `sumi eval x.npr --scene`
 #   tests/render/x.npr  -> x.png  golden image, compared by imgcmp with a tolerance
+#                       -> x.svg  (when present) exact text of `sumi render x.npr -o x.svg`
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #
 # A first line "// args: ..." gives extra options; in render tests a line
@@ -76,11 +77,21 @@ for f in "$ROOT"/tests/render/*.npr; do
   fi
 done
 
+# SVG snapshots: tests/render/x.svg is the exact text of rendering x.npr to SVG.
+for f in "$ROOT"/tests/render/*.svg; do
+  [ -e "$f" ] || continue
+  name=$(basename "$f" .svg)
+  # shellcheck disable=SC2046
+  (cd "$ROOT/tests/render" && "$SUMI" render "$name.npr" -o "$OUT/$name.svg" $(args_of "$ROOT/tests/render/$name.npr") >"$OUT/$name.svg.log" 2>&1)
+  if [ -n "$UPDATE" ]; then cp "$OUT/$name.svg" "$f"; fi
+  if cmp -s "$OUT/$name.svg" "$f"; then pass
+  else fail "render/$name.svg"; diff -u "$f" "$OUT/$name.svg" | head -20; fi
+done
+
 # Unit tests: each binary reports its own count.
 for t in "$ROOT/$BUILD"/unit/test_*; do
   [ -x "$t" ] || continue
   line=$(cd "$ROOT" && "$t" 2>"$OUT/$(basename "$t").stderr" | tail -1)
-  status=$?
   p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
   q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
   s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')

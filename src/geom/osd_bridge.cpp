@@ -272,42 +272,56 @@ void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
   }
 }
 
-int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
-           size_t errlen) {
-  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
-  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(*m));
-  if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
-  Far::TopologyRefiner::UniformOptions uo(level);
-  uo.fullTopologyInLastLevel = true;  // edges of the last level, for the crease tags
-  r->RefineUniform(uo);
-
-  // Positions level by level (double precision weights).
-  Far::PrimvarRefinerReal<double> pr(*r);
-  std::vector<Point> src(m->nverts), dst;
+// The level's points from the base positions, level by level (double
+// precision weights).
+std::vector<Point> interpolate(Far::TopologyRefiner const &r, const double *pos, int nverts) {
+  Far::PrimvarRefinerReal<double> pr(r);
+  std::vector<Point> src(nverts), dst;
   for (size_t i = 0; i < src.size(); i++) src[i] = Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-  for (int l = 1; l <= level; l++) {
-    dst.resize(r->GetLevel(l).GetNumVertices());
+  for (int l = 1; l <= r.GetMaxLevel(); l++) {
+    dst.resize(r.GetLevel(l).GetNumVertices());
     pr.Interpolate(l, src, dst);
     src.swap(dst);
   }
-  std::vector<Point> lim, nrm;
-  limit_points(*r, src, m->scheme, lim, nrm);
+  return src;
+}
 
-  Far::TopologyLevel const &last = r->GetLevel(level);
-  std::vector<int> start(1, 0), index, base, fedges, everts(2 * (size_t)last.GetNumEdges());
+double *copy_points(std::vector<Point> const &v) {
+  double *p = static_cast<double *>(std::malloc(v.empty() ? 1 : 3 * v.size() * sizeof(double)));
+  if (!p) throw std::bad_alloc();
+  for (size_t i = 0; i < v.size(); i++)
+    for (int k = 0; k < 3; k++) p[3 * i + k] = v[i].p[k];
+  return p;
+}
+
+// Faces of the last level: corners, edges and the base face each lies in.
+void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
+  int level = r.GetMaxLevel();
+  Far::TopologyLevel const &last = r.GetLevel(level);
+  std::vector<int> start(1, 0), index, edges, base;
   index.reserve(4 * (size_t)last.GetNumFaces());
-  fedges.reserve(4 * (size_t)last.GetNumFaces());
+  edges.reserve(4 * (size_t)last.GetNumFaces());
   for (int f = 0; f < last.GetNumFaces(); f++) {
     Far::ConstIndexArray fv = last.GetFaceVertices(f), fe = last.GetFaceEdges(f);
     for (int k = 0; k < fv.size(); k++) index.push_back(fv[k]);
-    for (int k = 0; k < fe.size(); k++) fedges.push_back(fe[k]);
+    for (int k = 0; k < fe.size(); k++) edges.push_back(fe[k]);
     start.push_back((int)index.size());
     int b = f;  // walk up to the base face
-    for (int l = level; l >= 1; l--) b = r->GetLevel(l).GetFaceParentFace(b);
+    for (int l = level; l >= 1; l--) b = r.GetLevel(l).GetFaceParentFace(b);
     base.push_back(b);
   }
-  std::vector<float> tag = tagged_edges(*m, *r), sharp, sharp_now, vsharp;
-  std::vector<int> sharp_verts;
+  out->nfaces = last.GetNumFaces();
+  out->face_start = copy_out(start);
+  out->face_index = copy_out(index);
+  out->face_edges = copy_out(edges);
+  out->face_base = copy_out(base);
+}
+
+// Edges of the last level with their crease tags, and vertex sharpness.
+void collect_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r, SumiOsdRefined *out) {
+  Far::TopologyLevel const &last = r.GetLevel(r.GetMaxLevel());
+  std::vector<float> tag = tagged_edges(m, r), sharp, sharp_now, vsharp;
+  std::vector<int> everts(2 * (size_t)last.GetNumEdges()), sharp_verts;
   for (int e = 0; e < last.GetNumEdges(); e++) {
     Far::ConstIndexArray ev = last.GetEdgeVertices(e);
     everts[2 * e] = ev[0];
@@ -319,32 +333,34 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
     sharp_now.push_back(last.GetEdgeSharpness(e));
   }
   for (int v = 0; v < last.GetNumVertices(); v++) vsharp.push_back(last.GetVertexSharpness(v));
+  out->nedges = last.GetNumEdges();
+  out->edge_verts = copy_out(everts);
+  out->edge_tag = copy_out(tag);
+  out->nsharp = (int)sharp.size();
+  out->sharp_verts = copy_out(sharp_verts);
+  out->sharp = copy_out(sharp);
+  out->sharp_now = copy_out(sharp_now);
+  out->vert_sharpness = copy_out(vsharp);
+}
 
-  std::vector<double> ctrl(3 * src.size()), limd(3 * src.size()), nrmd(3 * src.size());
-  std::memcpy(ctrl.data(), src.data(), sizeof(double) * ctrl.size());
-  std::memcpy(limd.data(), lim.data(), sizeof(double) * limd.size());
-  std::memcpy(nrmd.data(), nrm.data(), sizeof(double) * nrmd.size());
-  SumiOsdRefined res;
-  std::memset(&res, 0, sizeof res);
-  res.level = level;
-  res.nverts = (int)src.size();
-  res.nfaces = last.GetNumFaces();
-  res.nsharp = (int)sharp.size();
-  res.nedges = last.GetNumEdges();
-  res.edge_verts = copy_out(everts);
-  res.edge_tag = copy_out(tag);
-  res.face_edges = copy_out(fedges);
-  res.ctrl = copy_out(ctrl);
-  res.limit = copy_out(limd);
-  res.normal = copy_out(nrmd);
-  res.vert_sharpness = copy_out(vsharp);
-  res.face_start = copy_out(start);
-  res.face_index = copy_out(index);
-  res.face_base = copy_out(base);
-  res.sharp_verts = copy_out(sharp_verts);
-  res.sharp = copy_out(sharp);
-  res.sharp_now = copy_out(sharp_now);
-  *out = res;
+// Fills *out (zeroed by the caller, who frees it if this throws midway).
+int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
+           size_t errlen) {
+  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
+  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(*m));
+  if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
+  Far::TopologyRefiner::UniformOptions uo(level);
+  uo.fullTopologyInLastLevel = true;  // edges of the last level, for the crease tags
+  r->RefineUniform(uo);
+  std::vector<Point> ctrl = interpolate(*r, pos, m->nverts), lim, nrm;
+  limit_points(*r, ctrl, m->scheme, lim, nrm);
+  out->level = level;
+  out->nverts = (int)ctrl.size();
+  out->ctrl = copy_points(ctrl);
+  out->limit = copy_points(lim);
+  out->normal = copy_points(nrm);
+  collect_faces(*r, out);
+  collect_edges(*m, *r, out);
   return 1;
 }
 

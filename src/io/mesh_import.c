@@ -12,7 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -265,7 +269,158 @@ static int import_file(const char *path, SceneGeometry *out, Arena *arena, char 
   return ok;
 }
 
+/* ---- isolation ------------------------------------------------------------ */
+
+/* Assimp crashes or loops on some malformed files (seen with PLY), so it
+** reads each file in a child process: a crash or a runaway there becomes
+** an error here. The child sends its result down a pipe:
+**   int ok; then either int len + len bytes of reason,
+**   or int nverts, nfaces, nidx + verts (3 doubles each) + face_start
+**   (nfaces + 1 ints) + face_index (nidx ints). */
+
+static int write_all(int fd, const void *p, size_t n) {
+  const char *c = p;
+  while (n > 0) {
+    ssize_t k = write(fd, c, n);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return 0;
+    c += k;
+    n -= (size_t)k;
+  }
+  return 1;
+}
+
+static _Noreturn void child_import(const char *path, int fd, int timeout_s) {
+  alarm((unsigned)timeout_s);   /* SIGALRM ends a runaway */
+#if !defined(__SANITIZE_ADDRESS__)
+  /* a huge count in a header fails to allocate instead of swapping: the
+  ** address space we have now plus MESH_IMPORT_MAX_MEMORY */
+  long pages = 0;
+  FILE *statm = fopen("/proc/self/statm", "r");
+  if (statm) {
+    if (fscanf(statm, "%ld", &pages) != 1) pages = 0;
+    fclose(statm);
+  }
+  rlim_t limit = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + (rlim_t)MESH_IMPORT_MAX_MEMORY;
+  struct rlimit rl = {limit, limit};
+  setrlimit(RLIMIT_AS, &rl);
+#endif
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g;
+  char err[512] = "";
+  int ok = import_file(path, &g, &a, err, sizeof err);
+  int w = write_all(fd, &ok, sizeof ok);
+  if (!ok) {
+    int len = (int)strlen(err);
+    w = w && write_all(fd, &len, sizeof len) && write_all(fd, err, (size_t)len);
+  } else {
+    int head[3] = {g.nverts, g.nfaces, g.face_start[g.nfaces]};
+    w = w && write_all(fd, head, sizeof head) &&
+        write_all(fd, g.verts, sizeof(Vec3) * (size_t)g.nverts) &&
+        write_all(fd, g.face_start, sizeof(int) * (size_t)(g.nfaces + 1)) &&
+        write_all(fd, g.face_index, sizeof(int) * (size_t)head[2]);
+  }
+  _exit(w ? 0 : 1);   /* no atexit handlers, no flushing the parent's buffers */
+}
+
+/* Everything the child wrote, until it closes the pipe; *n bytes. */
+static char *read_all(int fd, size_t *n) {
+  size_t cap = 1 << 16;
+  char *buf = xmalloc(cap);
+  *n = 0;
+  for (;;) {
+    if (*n == cap) buf = xrealloc(buf, cap *= 2);
+    ssize_t k = read(fd, buf + *n, cap - *n);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) break;
+    *n += (size_t)k;
+  }
+  return buf;
+}
+
+/* Take bytes from the child's message; 0 when it is shorter than that. */
+typedef struct Reader { const char *p; size_t left; } Reader;
+static int take(Reader *r, void *dst, size_t n) {
+  if (r->left < n) return 0;
+  memcpy(dst, r->p, n);
+  r->p += n;
+  r->left -= n;
+  return 1;
+}
+
+/* Rebuild the geometry (in arena) from the child's message. */
+static int unpack(const char *buf, size_t n, SceneGeometry *out, Arena *arena, char *err,
+                  size_t errlen) {
+  Reader r = {buf, n};
+  int ok, head[3], len;
+  if (!take(&r, &ok, sizeof ok)) return failf(err, errlen, "Assimp ended without an answer");
+  if (!ok) {
+    if (!take(&r, &len, sizeof len) || len < 0 || (size_t)len > r.left)
+      return failf(err, errlen, "Assimp ended without an answer");
+    return failf(err, errlen, "%.*s", len, r.p);
+  }
+  if (!take(&r, head, sizeof head) || head[0] < 1 || head[1] < 1 || head[2] < 3 ||
+      r.left != sizeof(Vec3) * (size_t)head[0] + sizeof(int) * ((size_t)head[1] + 1 + (size_t)head[2]))
+    return failf(err, errlen, "Assimp ended without a whole answer");
+  out->nverts = head[0];
+  out->nfaces = head[1];
+  out->verts = arena_alloc(arena, sizeof(Vec3) * (size_t)head[0]);
+  out->face_start = arena_alloc(arena, sizeof(int) * ((size_t)head[1] + 1));
+  out->face_index = arena_alloc(arena, sizeof(int) * (size_t)head[2]);
+  take(&r, out->verts, sizeof(Vec3) * (size_t)head[0]);
+  take(&r, out->face_start, sizeof(int) * ((size_t)head[1] + 1));
+  take(&r, out->face_index, sizeof(int) * (size_t)head[2]);
+  return 1;
+}
+
+/* Why the child ended without an answer. */
+static int child_failed(int status, int timeout_s, char *err, size_t errlen) {
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM)
+    return failf(err, errlen, "Assimp took longer than %d s on it (MESH_IMPORT_TIMEOUT)",
+                 timeout_s);
+  if (WIFSIGNALED(status))
+    return failf(err, errlen, "Assimp crashed reading it (%s): the file is malformed",
+                 strsignal(WTERMSIG(status)));
+  return failf(err, errlen, "Assimp failed reading it (out of memory?)");
+}
+
+int mesh_import_file_limited(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                             size_t errlen, int timeout_s) {
+  memset(out, 0, sizeof *out);
+  out->kind = GEOM_MESH;
+  if (!check_file(path, err, errlen)) return 1;
+  int fd[2];
+  if (pipe(fd) != 0) return import_file(path, out, arena, err, errlen) ? 0 : 1;
+  fflush(NULL);   /* the child must not write our buffered output twice */
+  pid_t pid = fork();
+  if (pid < 0) {
+    close(fd[0]);
+    close(fd[1]);
+    return import_file(path, out, arena, err, errlen) ? 0 : 1;
+  }
+  if (pid == 0) {
+    close(fd[0]);
+    child_import(path, fd[1], timeout_s);
+  }
+  close(fd[1]);
+  size_t n;
+  char *buf = read_all(fd[0], &n);
+  close(fd[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0
+               ? unpack(buf, n, out, arena, err, errlen)
+               : child_failed(status, timeout_s, err, errlen);
+  free(buf);
+  if (!ok) {
+    memset(out, 0, sizeof *out);
+    out->kind = GEOM_MESH;
+  }
+  return ok ? 0 : 1;
+}
+
 int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
                      size_t errlen) {
-  return import_file(path, out, arena, err, errlen) ? 0 : 1;
+  return mesh_import_file_limited(path, out, arena, err, errlen, MESH_IMPORT_TIMEOUT);
 }

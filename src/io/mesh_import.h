@@ -24,6 +24,14 @@
 #define MESH_IMPORT_MAX_VERTS (1 << 24)
 #define MESH_IMPORT_MAX_FACES (1 << 24)
 
+/* Assimp reads each file in a child process (it crashes or loops on some
+** malformed files): the child gets MESH_IMPORT_TIMEOUT seconds of wall
+** time and, outside sanitizer builds, MESH_IMPORT_MAX_MEMORY bytes of
+** address space; a crash, a runaway or a failed allocation there is an
+** error here. (fork: call it before starting threads.) */
+#define MESH_IMPORT_TIMEOUT 120
+#define MESH_IMPORT_MAX_MEMORY (8LL << 30)
+
 /* Read the mesh in the file at path into *out (kind GEOM_MESH; verts,
 ** face_start and face_index allocated in arena; every other field zero).
 ** Returns 0 on success; nonzero with a one-line reason in err (errlen
@@ -32,5 +40,9 @@
 ** (0 = success, as the evaluator's caller expects.) */
 int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
                      size_t errlen);
+
+/* The same with the child's time limit in seconds (tests use a short one). */
+int mesh_import_file_limited(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                             size_t errlen, int timeout_s);
 
 #endif

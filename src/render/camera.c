@@ -99,6 +99,7 @@ void camera_fit_init(CameraFit *fit, const Camera *c) {
 }
 
 void camera_fit_add(CameraFit *fit, const Camera *c, Vec3 q) {
+  if (!(isfinite(q.x) && isfinite(q.y) && isfinite(q.z))) return;   /* shows nowhere */
   double x = v3_dot(q, c->right), y = v3_dot(q, c->up), z = v3_dot(q, c->forward);
   fit->a = fmax(fit->a, x - fit->tx * z);
   fit->b = fmin(fit->b, x + fit->tx * z);

@@ -1,6 +1,7 @@
 /*
-** The reference image: mesh depth with a slope-scaled offset, then every
-** important edge drawn with its id (depth-tested, depth-writing), in id
+** The reference image: the tiles the edges cross, the meshes' depth in
+** them, then every important edge drawn with its id (depth-tested against
+** the surfaces with the offset rule of edgeref.h, depth-writing), in id
 ** order. Work is split into horizontal bands; each band sees every
 ** triangle and edge in the same order, so the image never depends on the
 ** number of workers.
@@ -34,8 +35,26 @@ static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, 
   *n = (float)((1 - c[2] * iw) * 0.5);
 }
 
-/* Append the triangle a, b, c (pixels and nearness) if it has area. */
-static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h) {
+/* Which tiles get depth: the summed-area table (tw + 1) x (th + 1) of the
+** tiles with storage; NULL keeps every triangle. */
+typedef struct TileSat { int tw, th; const int *sat; } TileSat;
+
+/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] have storage? */
+static int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
+  if (tx0 < 0) tx0 = 0;
+  if (ty0 < 0) ty0 = 0;
+  if (tx1 >= m->tw) tx1 = m->tw - 1;
+  if (ty1 >= m->th) ty1 = m->th - 1;
+  if (tx0 > tx1 || ty0 > ty1) return 0;
+  int W = m->tw + 1;
+  return m->sat[(ty1 + 1) * W + tx1 + 1] - m->sat[ty0 * W + tx1 + 1] - m->sat[(ty1 + 1) * W + tx0] +
+         m->sat[ty0 * W + tx0] > 0;
+}
+
+/* Append the triangle a, b, c (pixels and nearness) if it has area and
+** reaches a tile with storage (any tile when m is NULL). */
+static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h,
+                     const TileSat *m) {
   /* p: x0 y0 n0 x1 y1 n1 x2 y2 n2 */
   double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
   double det = ax * by - ay * bx;
@@ -45,6 +64,9 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
   double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
   double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
   if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (m && !sat_any(m, (int)fmax(0, xmin) >> LINE_REF_TILE_BITS, (int)fmax(0, ymin) >> LINE_REF_TILE_BITS,
+                    (int)fmin(w - 1, xmax) >> LINE_REF_TILE_BITS, (int)fmin(h - 1, ymax) >> LINE_REF_TILE_BITS))
+    return;   /* no edge near it: nothing will read its depth */
   if (l->n == l->cap) l->t = xgrow(l->t, &l->cap, l->n + 1, sizeof *l->t);
   ScreenTri *t = &l->t[l->n++];
   for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
@@ -58,7 +80,8 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
 
 /* Clip the triangle c[3] against the near plane (z >= -w) and append the
 ** pieces. */
-static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double factor, int w, int h) {
+static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double factor, int w, int h,
+                        const TileSat *m) {
   double poly[4][4];
   int np = 0;
   for (int k = 0; k < 3; k++) {
@@ -80,13 +103,14 @@ static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double
   for (int k = 1; k + 1 < np; k++) {
     float p[9] = {s[0][0], s[0][1], s[0][2], s[k][0], s[k][1], s[k][2],
                   s[k + 1][0], s[k + 1][1], s[k + 1][2]};
-    push_tri(l, p, obj, tri, factor, w, h);
+    push_tri(l, p, obj, tri, factor, w, h, m);
   }
 }
 
-/* Every triangle of every object, with the offset its object's edges get
-** from it. */
-static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h) {
+/* Every triangle of every object that reaches a tile of sat, with the
+** offset its object's edges get from it. */
+static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h,
+                         const TileSat *sat) {
   for (int i = 0; i < edges->nobj; i++) {
     const Mesh *m = objs[i].mesh;
     const LineVert *v = edges->obj[i].vert;
@@ -95,68 +119,42 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     if (!(factor > 0)) factor = 0;
     for (int t = 0; t < m->ntris; t++) {
       const double *c[3] = {v[m->tri[t][0]].clip, v[m->tri[t][1]].clip, v[m->tri[t][2]].clip};
-      add_clipped(l, c, i, t, factor, w, h);
+      add_clipped(l, c, i, t, factor, w, h, sat);
     }
   }
 }
 
-/* The part of an image a buffer covers: pixels [ox, ox + w) x [oy, oy + h). */
-typedef struct Window { int ox, oy, w, h; } Window;
+/* Where the raster writes: the tiled buffers of a LineRef, and optionally
+** a dense row-major image of object indices (line_object_ids). */
+typedef struct RefTarget {
+  const LineRef *ref;
+  int32_t *ids;
+} RefTarget;
 
-/* Depth is only ever read where an edge is drawn, so the reference image
-** rasterizes the meshes only in the REF_TILE x REF_TILE tiles of the window
-** that some edge's walk crosses: the same depths there, a fraction of the
-** pixels. */
-#define REF_TILE 8
-
-typedef struct TileMask {
-  int tw, th;                /* tiles across and down the window */
-  unsigned char *on;         /* tw * th: an edge crosses the tile */
-  int *sat;                  /* (tw + 1) * (th + 1): summed-area table of on */
-} TileMask;
-
-/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold an edge? */
-static int mask_any(const TileMask *m, int tx0, int ty0, int tx1, int ty1) {
-  if (tx0 < 0) tx0 = 0;
-  if (ty0 < 0) ty0 = 0;
-  if (tx1 >= m->tw) tx1 = m->tw - 1;
-  if (ty1 >= m->th) ty1 = m->th - 1;
-  if (tx0 > tx1 || ty0 > ty1) return 0;
-  int W = m->tw + 1;
-  return m->sat[(ty1 + 1) * W + tx1 + 1] - m->sat[ty0 * W + tx1 + 1] - m->sat[(ty1 + 1) * W + tx0] +
-         m->sat[ty0 * W + tx0] > 0;
-}
-
-/* Fill pixels [xa, xb] of row y (window coordinates row, the buffers'
-** offset) with t's nearness where nearer. */
-static void raster_run(const ScreenTri *t, uint32_t k, float *near, uint32_t *tri_at, int32_t *ids,
-                       size_t row, int ox, int xa, int xb, double n0, double dndx) {
-  float *nr = near + row;
+/* Pixels [xa, xb] of row y, all in tile block b, take t's nearness (n0 at
+** xa, dndx a pixel) where it is nearer. */
+static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int b, int y, int xa,
+                       int xb, double n0, double dndx) {
+  const LineRef *ref = rt->ref;
+  size_t base = (size_t)b * LINE_REF_TILE_PX + ((size_t)(y & (LINE_REF_TILE - 1)) << LINE_REF_TILE_BITS);
   for (int x = xa; x <= xb; x++) {
     float nf = (float)(n0 + dndx * (x - xa));
-    size_t i = (size_t)(x - ox);
-    if (nf > nr[i]) {
-      nr[i] = nf;
-      if (tri_at) tri_at[row + i] = LINE_REF_TRI | k;
-      if (ids) ids[row + i] = t->obj;
+    size_t i = base + (x & (LINE_REF_TILE - 1));
+    if (nf > ref->near[i]) {
+      ref->near[i] = nf;
+      ref->id[i] = LINE_REF_TRI | k;
+      if (rt->ids) rt->ids[(size_t)y * ref->width + x] = t->obj;
     }
   }
 }
 
-/* Rasterize t (number k in its list) into rows [y0, y1) of the window:
-** pixel centres inside (edges included) take its nearness when it is
-** nearer than what is there, and LINE_REF_TRI | k in tri_at or the object
-** index in ids when given. */
-static void raster_tri(const ScreenTri *t, uint32_t k, float *near, uint32_t *tri_at, int32_t *ids,
-                       const Window *win, const TileMask *mask, int y0, int y1) {
+/* Rasterize t (number k in its list) into rows [y0, y1), in the tiles with
+** storage: pixel centres inside (edges included) take its nearness when it
+** is nearer than what is there, and LINE_REF_TRI | k as their id. */
+static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int y0, int y1) {
+  const LineRef *ref = rt->ref;
   int ya = t->ymin > y0 ? t->ymin : y0, yb = t->ymax < y1 - 1 ? t->ymax : y1 - 1;
   if (ya > yb) return;
-  if (mask) {   /* no edge in its box: nothing will read its depth */
-    float xmin = fminf(t->x[0], fminf(t->x[1], t->x[2])), xmax = fmaxf(t->x[0], fmaxf(t->x[1], t->x[2]));
-    int tx0 = ((int)fmaxf(xmin, (float)win->ox) - win->ox) / REF_TILE;
-    int tx1 = ((int)fminf(xmax, (float)(win->ox + win->w - 1)) - win->ox) / REF_TILE;
-    if (!mask_any(mask, tx0, (ya - win->oy) / REF_TILE, tx1, (yb - win->oy) / REF_TILE)) return;
-  }
   double x0 = t->x[0], y0d = t->y[0];
   double ax = t->x[1] - x0, ay = t->y[1] - y0d, bx = t->x[2] - x0, by = t->y[2] - y0d;
   double det = ax * by - ay * bx;
@@ -177,9 +175,9 @@ static void raster_tri(const ScreenTri *t, uint32_t k, float *near, uint32_t *tr
     m[e] = kind[e] ? -b / a : b;
     q[e] = kind[e] ? -c / a : c;
   }
-  int xlo = win->ox, xhi = win->ox + win->w - 1;
+  int xhi = ref->width - 1;
   for (int y = ya; y <= yb; y++) {
-    double py = y + 0.5, lo = xlo + 0.5, hi = xhi + 0.5;
+    double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
     int empty = 0;
     for (int e = 0; e < 3; e++) {
       double r = m[e] * py + q[e];
@@ -188,25 +186,21 @@ static void raster_tri(const ScreenTri *t, uint32_t k, float *near, uint32_t *tr
       else if (r < 0) empty = 1;
     }
     if (empty || lo > hi) continue;
-    /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= xlo >= 0, so truncation floors */
+    /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= 0, so truncation floors */
     double a0 = lo - 0.5, b0 = hi - 0.5;
     int xa = (int)a0, xb = (int)b0;
     if (xa < a0) xa++;
     if (xb > xhi) xb = xhi;
     if (xa > xb) continue;
     double n0 = t->n[0] + dndx * (xa + 0.5 - x0) + dndy * (py - y0d);
-    size_t row = (size_t)(y - win->oy) * win->w;
-    if (!mask) {
-      raster_run(t, k, near, tri_at, ids, row, win->ox, xa, xb, n0, dndx);
-      continue;
-    }
-    const unsigned char *on = mask->on + (size_t)((y - win->oy) / REF_TILE) * mask->tw;
-    for (int tx = (xa - win->ox) / REF_TILE; tx <= (xb - win->ox) / REF_TILE; tx++) {
-      if (!on[tx]) continue;
-      int ta = win->ox + tx * REF_TILE, tb = ta + REF_TILE - 1;
+    const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
+    for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
+      int b = tiles[tx];
+      if (b < 0) continue;
+      int ta = tx << LINE_REF_TILE_BITS, tb = ta + LINE_REF_TILE - 1;
       if (ta < xa) ta = xa;
       if (tb > xb) tb = xb;
-      raster_run(t, k, near, tri_at, ids, row, win->ox, ta, tb, n0 + dndx * (ta - xa), dndx);
+      raster_run(t, k, rt, b, y, ta, tb, n0 + dndx * (ta - xa), dndx);
     }
   }
 }
@@ -280,17 +274,17 @@ typedef struct RefJob {
   const TriList *tris;
   const LineEdges *edges;
   const EdgeInfo *info;     /* per id - 1 */
-  Window win;               /* the pixels the buffers cover */
-  const TileMask *mask;     /* tiles to rasterize, NULL = all */
+  RefTarget rt;
   int nbands;
   int **count;              /* per band: pixel counts per id - 1 */
-  int32_t *ids;             /* line_object_ids only */
 } RefJob;
 
+/* Rows of a band: whole tile rows, so bands never share a tile. */
 static void band_rows(const RefJob *j, int band, int *y0, int *y1) {
-  int h = j->win.h;
-  *y0 = j->win.oy + (int)((long long)h * band / j->nbands);
-  *y1 = j->win.oy + (int)((long long)h * (band + 1) / j->nbands);
+  int th = j->ref->th;
+  *y0 = (int)((long long)th * band / j->nbands) << LINE_REF_TILE_BITS;
+  *y1 = (int)((long long)th * (band + 1) / j->nbands) << LINE_REF_TILE_BITS;
+  if (*y1 > j->ref->height) *y1 = j->ref->height;
 }
 
 /* May triangle t push its depth back for edge e? When it faces the
@@ -309,13 +303,13 @@ static void draw_span(const RefJob *j, const LineSpan *s, uint32_t id, int *coun
   if (ymax < y0 || ymin >= y1) return;
   LineRef *ref = j->ref;
   const EdgeInfo *e = &j->info[id - 1];
-  const Window *win = &j->win;
   float dn = s->nsteps > 1 ? (s->n1 - s->n0) / (float)(s->nsteps - 1) : 0;
   for (int i = 0; i < s->nsteps; i++) {
     int x, y;
     line_span_step(s, i, &x, &y);
-    if (y < y0 || y >= y1 || x < win->ox || x >= win->ox + win->w) continue;
-    size_t at = (size_t)(y - win->oy) * win->w + (x - win->ox);
+    if (y < y0 || y >= y1) continue;
+    long at = line_ref_at(ref, x, y);   /* always stored: the walk made the tile */
+    if (at < 0) continue;
     float n = s->n0 + dn * (float)i, limit = ref->near[at];
     uint32_t old = ref->id[at];
     if (old & LINE_REF_TRI) {   /* a surface: pushed back when lenient */
@@ -344,17 +338,16 @@ static void ref_band(void *ctx, int band, int worker) {
   band_rows(j, band, &y0, &y1);
   for (int i = 0; i < j->tris->n; i++) {
     const ScreenTri *t = &j->tris->t[i];
-    if (t->ymax >= y0 && t->ymin < y1)
-      raster_tri(t, (uint32_t)i, ref->near, ref->id, j->ids, &j->win, j->mask, y0, y1);
+    if (t->ymax >= y0 && t->ymin < y1) raster_tri(t, (uint32_t)i, &j->rt, y0, y1);
   }
-  if (!ref->id) return;
+  if (!j->info) return;   /* line_object_ids: surfaces only */
   for (int i = 0; i < ref->nids; i++)
     if (ref->span[i].nsteps) draw_span(j, &ref->span[i], (uint32_t)i + 1, j->count[band], y0, y1);
 }
 
-static int band_count(int threads, int height) {
+static int band_count(int threads, int tile_rows) {
   int n = threads > 1 ? threads * 4 : 1;
-  return n > height ? (height > 0 ? height : 1) : n;
+  return n > tile_rows ? (tile_rows > 0 ? tile_rows : 1) : n;
 }
 
 static EdgeInfo *edge_info(const LineEdges *edges) {
@@ -373,63 +366,59 @@ static EdgeInfo *edge_info(const LineEdges *edges) {
   return info;
 }
 
-/* The tiles of the window that the walks of ref's spans cross. */
-static TileMask edge_tiles(const LineRef *ref, const Window *win) {
-  TileMask m;
-  m.tw = (win->w + REF_TILE - 1) / REF_TILE;
-  m.th = (win->h + REF_TILE - 1) / REF_TILE;
-  m.on = xcalloc((size_t)m.tw * m.th + 1, 1);
-  m.sat = xcalloc(((size_t)m.tw + 1) * (m.th + 1), sizeof *m.sat);
+/* Give storage to the tiles the walks of ref's spans cross (blocks in
+** tile order) and fill *sat with the summed-area table of those tiles. */
+static void edge_tiles(LineRef *ref, int **sat) {
+  int tw = ref->tw, th = ref->th;
   for (int i = 0; i < ref->nids; i++) {
     const LineSpan *s = &ref->span[i];
     for (int k = 0; k < s->nsteps; k++) {
       int x, y;
       line_span_step(s, k, &x, &y);
-      x -= win->ox;
-      y -= win->oy;
-      if (x >= 0 && y >= 0 && x < win->w && y < win->h) m.on[(y / REF_TILE) * m.tw + x / REF_TILE] = 1;
+      ref->tile[(y >> LINE_REF_TILE_BITS) * tw + (x >> LINE_REF_TILE_BITS)] = 0;
     }
   }
-  int W = m.tw + 1;
-  for (int ty = 0; ty < m.th; ty++)
-    for (int tx = 0; tx < m.tw; tx++)
-      m.sat[(ty + 1) * W + tx + 1] = m.on[ty * m.tw + tx] + m.sat[ty * W + tx + 1] +
-                                     m.sat[(ty + 1) * W + tx] - m.sat[ty * W + tx];
-  return m;
+  int W = tw + 1;
+  *sat = xcalloc((size_t)W * (th + 1), sizeof **sat);
+  for (int ty = 0; ty < th; ty++)
+    for (int tx = 0; tx < tw; tx++) {
+      int *t = &ref->tile[ty * tw + tx];
+      int on = *t == 0;
+      *t = on ? ref->nblocks++ : -1;
+      (*sat)[(ty + 1) * W + tx + 1] = on + (*sat)[ty * W + tx + 1] + (*sat)[(ty + 1) * W + tx] - (*sat)[ty * W + tx];
+    }
 }
 
-/* The box of the screen triangles within the image (w = 0 when none). */
-static Window tri_window(const TriList *l, int width, int height) {
-  double x0 = width, y0 = height, x1 = 0, y1 = 0;
-  for (int i = 0; i < l->n; i++)
-    for (int k = 0; k < 3; k++) {
-      const ScreenTri *t = &l->t[i];
-      if (t->x[k] < x0) x0 = t->x[k];
-      if (t->x[k] > x1) x1 = t->x[k];
-      if (t->y[k] < y0) y0 = t->y[k];
-      if (t->y[k] > y1) y1 = t->y[k];
-    }
-  Window w = {0, 0, 0, 0};
-  int xa = (int)fmax(0, floor(x0) - 1), ya = (int)fmax(0, floor(y0) - 1);
-  int xb = (int)fmin(width - 1, ceil(x1) + 1), yb = (int)fmin(height - 1, ceil(y1) + 1);
-  if (l->n == 0 || xa > xb || ya > yb) return w;
-  w.ox = xa; w.oy = ya; w.w = xb - xa + 1; w.h = yb - ya + 1;
-  return w;
+/* The tile grid of a width x height image, every tile without storage. */
+static void ref_init(LineRef *ref, int width, int height) {
+  memset(ref, 0, sizeof *ref);
+  ref->width = width;
+  ref->height = height;
+  ref->tw = (width + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
+  ref->th = (height + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
+  size_t nt = (size_t)ref->tw * ref->th;
+  ref->tile = xmalloc((nt ? nt : 1) * sizeof *ref->tile);
+  for (size_t i = 0; i < nt; i++) ref->tile[i] = -1;
+}
+
+static void ref_alloc_blocks(LineRef *ref) {
+  size_t n = (size_t)ref->nblocks * LINE_REF_TILE_PX;
+  ref->near = xcalloc(n ? n : 1, sizeof *ref->near);
+  ref->id = xcalloc(n ? n : 1, sizeof *ref->id);
+}
+
+void line_ref_blank(LineRef *ref, int width, int height) {
+  ref_init(ref, width, height);
+  for (int i = 0; i < ref->tw * ref->th; i++) ref->tile[i] = ref->nblocks++;
+  ref_alloc_blocks(ref);
+  ref->span = xcalloc(1, sizeof *ref->span);
+  ref->count = xcalloc(1, sizeof *ref->count);
+  ref->visible = xcalloc(1, sizeof *ref->visible);
 }
 
 void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
                     int height, int threads) {
-  memset(ref, 0, sizeof *ref);
-  ref->width = width;
-  ref->height = height;
-  TriList tris = {0, 0, NULL};
-  collect_tris(&tris, edges, objs, width, height);
-  Window win = tri_window(&tris, width, height);   /* edges lie on the meshes: inside it */
-  size_t npx = (size_t)win.w * win.h;
-  ref->ox = win.ox; ref->oy = win.oy; ref->bw = win.w; ref->bh = win.h;
-  ref->bytes = npx * sizeof(float);
-  ref->near = line_big_zalloc(ref->bytes);
-  ref->id = line_big_zalloc(ref->bytes);
+  ref_init(ref, width, height);
   ref->nids = edges->n;
   ref->span = xcalloc((size_t)edges->n + 1, sizeof *ref->span);
   for (int i = 0; i < edges->n; i++) {
@@ -437,11 +426,16 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
     const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
     make_span(&ref->span[i], &oe->vert[me->v[0]], &oe->vert[me->v[1]], width, height);
   }
-  TileMask mask = edge_tiles(ref, &win);
-  RefJob job = {ref, &tris, edges, edge_info(edges), win, &mask, band_count(threads, win.h), NULL, NULL};
+  int *sat;
+  edge_tiles(ref, &sat);   /* storage only where edges are */
+  ref_alloc_blocks(ref);
+  TileSat ts = {ref->tw, ref->th, sat};
+  TriList tris = {0, 0, NULL};
+  if (ref->nblocks) collect_tris(&tris, edges, objs, width, height, &ts);
+  RefJob job = {ref, &tris, edges, edge_info(edges), {ref, NULL}, band_count(threads, ref->th), NULL};
   job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
   for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
-  if (npx) line_parallel(job.nbands, threads, ref_band, &job);
+  if (ref->nblocks) line_parallel(job.nbands, threads, ref_band, &job);
   ref->count = job.count[0];
   for (int b = 1; b < job.nbands; b++) {
     for (int i = 0; i < edges->n; i++) ref->count[i] += job.count[b][i];
@@ -449,8 +443,7 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
   }
   free(job.count);
   free((void *)job.info);
-  free(mask.on);
-  free(mask.sat);
+  free(sat);
   free(tris.t);
   ref->visible = xmalloc(((size_t)edges->n + 1) * sizeof *ref->visible);
   for (int i = 0; i < edges->n; i++)
@@ -458,8 +451,9 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
 }
 
 void line_ref_free(LineRef *ref) {
-  line_big_free(ref->near, ref->bytes);
-  line_big_free(ref->id, ref->bytes);
+  free(ref->tile);
+  free(ref->near);
+  free(ref->id);
   free(ref->span);
   free(ref->count);
   free(ref->visible);
@@ -472,16 +466,12 @@ int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int wid
   int32_t *ids = xmalloc((npx ? npx : 1) * sizeof *ids);
   for (size_t i = 0; i < npx; i++) ids[i] = -1;
   LineRef ref;
-  memset(&ref, 0, sizeof ref);
-  ref.width = ref.bw = width;
-  ref.height = ref.bh = height;
-  ref.near = line_big_zalloc(npx * sizeof *ref.near);
+  line_ref_blank(&ref, width, height);   /* every tile */
   TriList tris = {0, 0, NULL};
-  collect_tris(&tris, edges, objs, width, height);
-  Window win = {0, 0, width, height};
-  RefJob job = {&ref, &tris, edges, NULL, win, NULL, band_count(threads, height), NULL, ids};
+  collect_tris(&tris, edges, objs, width, height, NULL);
+  RefJob job = {&ref, &tris, edges, NULL, {&ref, ids}, band_count(threads, ref.th), NULL};
   line_parallel(job.nbands, threads, ref_band, &job);
   free(tris.t);
-  line_big_free(ref.near, npx * sizeof *ref.near);
+  line_ref_free(&ref);
   return ids;
 }

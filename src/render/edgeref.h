@@ -43,14 +43,25 @@ typedef struct LineSpan {
   unsigned char real0, real1;  /* the end is the vertex itself, not a clip point */
 } LineSpan;
 
+/* The reference image is stored in tiles of LINE_REF_TILE x LINE_REF_TILE
+** pixels, and only in the tiles some edge's walk crosses: depth is only
+** ever read where an edge is drawn, and ids only there or a search width
+** away (a pixel of a tile without storage reads as empty). So the meshes
+** are rasterized into a fraction of the image, and memory and time follow
+** the length of the lines, not the resolution. */
+#define LINE_REF_TILE_BITS 3
+#define LINE_REF_TILE (1 << LINE_REF_TILE_BITS)
+#define LINE_REF_TILE_PX (LINE_REF_TILE * LINE_REF_TILE)
+
 typedef struct LineRef {
   int width, height;           /* the reference image */
-  int ox, oy, bw, bh;          /* the window the buffers cover: the screen box of the
-                                  meshes (nothing can be drawn outside it) */
-  float *near;                 /* bw x bh: nearness of the closest surface or edge, 0 = none */
-  uint32_t *id;                /* bw x bh: edge id drawn at each pixel, 0 = none; while
+  int tw, th;                  /* tiles across and down */
+  int *tile;                   /* tw * th: storage block of each tile, -1 = none */
+  int nblocks;
+  float *near;                 /* nblocks * LINE_REF_TILE_PX: nearness of the closest
+                                  surface or edge, 0 = none */
+  uint32_t *id;                /* the same layout: edge id drawn, 0 = none; while
                                   building, LINE_REF_TRI | k marks surface triangle k */
-  size_t bytes;                /* of each of near and id (big buffers are mapped) */
   int nids;                    /* important edges (ids 1..nids) */
   LineSpan *span;              /* per id - 1 */
   int *count;                  /* per id - 1: pixels holding the id after drawing */
@@ -86,15 +97,27 @@ static inline void line_span_step(const LineSpan *s, int i, int *x, int *y) {
 /* Tag of a pixel of LineRef.id that holds a surface triangle, not an edge. */
 #define LINE_REF_TRI 0x80000000u
 
-/* The edge id at pixel (x, y) of ref (0 outside its window or where no
-** edge is). */
+/* Index of pixel (x, y) in ref's near and id, or -1 when it has no storage
+** (outside the image or in a tile no edge crosses). */
+static inline long line_ref_at(const LineRef *ref, int x, int y) {
+  if (x < 0 || y < 0 || x >= ref->width || y >= ref->height) return -1;
+  int b = ref->tile[(y >> LINE_REF_TILE_BITS) * ref->tw + (x >> LINE_REF_TILE_BITS)];
+  if (b < 0) return -1;
+  return (long)b * LINE_REF_TILE_PX + ((y & (LINE_REF_TILE - 1)) << LINE_REF_TILE_BITS) +
+         (x & (LINE_REF_TILE - 1));
+}
+
+/* The edge id at pixel (x, y) of ref (0 where no edge is). */
 static inline uint32_t line_ref_id(const LineRef *ref, int x, int y) {
-  x -= ref->ox;
-  y -= ref->oy;
-  if (x < 0 || y < 0 || x >= ref->bw || y >= ref->bh) return 0;
-  uint32_t v = ref->id[(size_t)y * ref->bw + x];
+  long at = line_ref_at(ref, x, y);
+  if (at < 0) return 0;
+  uint32_t v = ref->id[at];
   return v & LINE_REF_TRI ? 0 : v;
 }
+
+/* An empty width x height reference image with storage in every tile and
+** no edges (tests fill id through line_ref_at). Free with line_ref_free. */
+void line_ref_blank(LineRef *ref, int width, int height);
 
 /* Rasterize the meshes of objs (depth only, no offset) into a width x
 ** height buffer of object indices (-1 = background), nearest wins; the

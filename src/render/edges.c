@@ -91,6 +91,20 @@ static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 
   }
 }
 
+/* Is every vertex outside one and the same clip plane (nothing of the
+** object can show)? */
+static int outside_view(const LineObjEdges *oe, int nverts) {
+  unsigned all = 63;
+  for (int v = 0; v < nverts && all; v++) {
+    const double *c = oe->vert[v].clip;
+    unsigned code = (unsigned)(c[0] < -c[3]) | (unsigned)(c[0] > c[3]) << 1 |
+                    (unsigned)(c[1] < -c[3]) << 2 | (unsigned)(c[1] > c[3]) << 3 |
+                    (unsigned)(c[2] < -c[3]) << 4 | (unsigned)(c[2] > c[3]) << 5;
+    all &= code;
+  }
+  return nverts > 0 && all != 0;
+}
+
 /* Unit world normals of m's triangles (zero for a degenerate one). */
 static void face_normals(Vec3 *fn, const Mesh *m, const Vec3 *world) {
   for (int t = 0; t < m->ntris; t++) {
@@ -128,15 +142,19 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
+    oe->front = xcalloc((size_t)m->ntris + 1, 1);
+    if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
+      oe->lines = NULL;
+      free(world);
+      continue;
+    }
     Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
     face_normals(fn, m, world);
-    oe->front = xmalloc((size_t)m->ntris + 1);
     for (int t = 0; t < m->ntris; t++) {   /* the viewer sees its front: v . n < 0 */
       Vec3 v = cam->kind == CAMERA_ORTHO ? cam->forward : v3_sub(world[m->tri[t][0]], cam->eye);
       oe->front[t] = v3_dot(v, fn[t]) < 0;
     }
     if (oe->lines) {
-
       double crease_cos = cos(oe->lines->crease_angle * M_PI / 180.0);
       for (int e = 0; e < m->nedges; e++) {
         unsigned kind = edge_kind(m, e, world, fn, oe->lines, crease_cos, cam);

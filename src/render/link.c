@@ -75,9 +75,10 @@ static void span_dir(const Linker *L, int id, int v, float *dx, float *dy) {
   *dy = len > 1e-6f ? y / len : 0;
 }
 
-/* Search object obj's graph from vertex v for a link past mesh edge e
-** whose direction (leaving v) is (dx, dy). Returns the mesh edge and its
-** near vertex (*near), or -1. */
+/* Search object obj's graph from vertex v for a link past mesh edge e,
+** along which the line arrives at v in direction (dx, dy): a candidate's
+** direction leaving its near vertex must be within link_angle of it.
+** Returns the mesh edge and its near vertex (*near), or -1. */
 static int find_link(Linker *L, int obj, int v, int e, float dx, float dy, int *near) {
   const LineObjEdges *oe = &L->edges->obj[obj];
   const SceneLines *ls = oe->lines;

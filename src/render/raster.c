@@ -36,11 +36,12 @@ static double plane_dist(const ClipVert *v, int plane, double gx, double gy) {
   }
 }
 
+/* Bit p set when v is outside plane p (plane_dist, unrolled). */
 static unsigned outcode(const ClipVert *v, double gx, double gy) {
-  unsigned code = 0;
-  for (int p = 0; p < NPLANES; p++)
-    if (plane_dist(v, p, gx, gy) < 0) code |= 1u << p;
-  return code;
+  const double *h = v->h;
+  return (unsigned)(h[2] + h[3] < 0) | (unsigned)(h[3] - h[2] < 0) << 1 |
+         (unsigned)(gx * h[3] + h[0] < 0) << 2 | (unsigned)(gx * h[3] - h[0] < 0) << 3 |
+         (unsigned)(gy * h[3] + h[1] < 0) << 4 | (unsigned)(gy * h[3] - h[1] < 0) << 5;
 }
 
 /* The point where the edge from inside vertex a (distance da >= 0) to
@@ -102,6 +103,11 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
   /* guard band: |x/w| <= gx puts pixel x within RAST_GUARD_PX of the image */
   double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
   for (int k = 0; k < 4; k++) v->h[k] = clip[k];
+  if (!(isfinite(clip[0]) && isfinite(clip[1]) && isfinite(clip[2]) && isfinite(clip[3]))) {
+    v->outcode = RAST_INVALID;   /* NaN or infinite: its triangles are dropped */
+    v->X = v->Y = 0; v->z = v->iw = 0;
+    return;
+  }
   v->outcode = outcode(&cv, gx, gy);
   if (v->outcode) { v->X = v->Y = 0; v->z = v->iw = 0; return; }
   project(v, width, height);
@@ -110,7 +116,8 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
 /* Plane of an attribute with values f[0..2] at pixel positions (x, y):
 ** p[0] = f0, p[1] = df/dx, p[2] = df/dy, solved from
 ** f1 - f0 = p1 ex1 + p2 ey1 and f2 - f0 = p1 ex2 + p2 ey2 (inv_det is
-** 1 / (ex1 ey2 - ex2 ey1)). */
+** 1 / (ex1 ey2 - ex2 ey1)). In double: thin triangles near the camera
+** cancel too much in float. */
 static void plane(float p[3], const double f[3], double ex1, double ey1, double ex2, double ey2,
                   double inv_det) {
   double d1 = f[1] - f[0], d2 = f[2] - f[0];
@@ -123,6 +130,21 @@ static void plane(float p[3], const double f[3], double ex1, double ey1, double 
 ** b[0..2]. Returns 0 when it has no area or covers no sample centre. */
 static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], int32_t object,
                  int32_t face, int width, int height) {
+  /* The pixels whose centre (i + 1/2) lies in the bounding box:
+  ** ceil(min - 1/2) .. floor(max - 1/2), clamped to the target. Most
+  ** triangles of a fine mesh that are dropped are dropped here. */
+  int64_t xmin = in[0]->X, xmax = in[0]->X, ymin = in[0]->Y, ymax = in[0]->Y;
+  for (int i = 1; i < 3; i++) {
+    xmin = in[i]->X < xmin ? in[i]->X : xmin; xmax = in[i]->X > xmax ? in[i]->X : xmax;
+    ymin = in[i]->Y < ymin ? in[i]->Y : ymin; ymax = in[i]->Y > ymax ? in[i]->Y : ymax;
+  }
+  int64_t bx0 = -floor_div(SUB / 2 - xmin, SUB), bx1 = floor_div(xmax - SUB / 2, SUB) + 1;
+  int64_t by0 = -floor_div(SUB / 2 - ymin, SUB), by1 = floor_div(ymax - SUB / 2, SUB) + 1;
+  t->x0 = (int)(bx0 > 0 ? bx0 : 0);
+  t->y0 = (int)(by0 > 0 ? by0 : 0);
+  t->x1 = (int)(bx1 < width ? bx1 : width);
+  t->y1 = (int)(by1 < height ? by1 : height);
+  if (t->x0 >= t->x1 || t->y0 >= t->y1) return 0;
   /* Twice the signed area on the grid; a negative one swaps vertices 1
   ** and 2 so the interior is where all three edge functions are positive. */
   int64_t area = (in[1]->X - in[0]->X) * (in[2]->Y - in[0]->Y) -
@@ -131,24 +153,11 @@ static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], 
   int ord[3] = {0, 1, 2};
   if (area < 0) { ord[1] = 2; ord[2] = 1; }
   const RastVert *v[3] = {in[ord[0]], in[ord[1]], in[ord[2]]};
-  int64_t xmin = v[0]->X, xmax = v[0]->X, ymin = v[0]->Y, ymax = v[0]->Y;
-  for (int i = 1; i < 3; i++) {
-    xmin = v[i]->X < xmin ? v[i]->X : xmin; xmax = v[i]->X > xmax ? v[i]->X : xmax;
-    ymin = v[i]->Y < ymin ? v[i]->Y : ymin; ymax = v[i]->Y > ymax ? v[i]->Y : ymax;
-  }
-  /* Pixels whose centre (i + 1/2) lies in the box: ceil(min - 1/2) ..
-  ** floor(max - 1/2), clamped to the target. */
-  int64_t bx0 = -floor_div(SUB / 2 - xmin, SUB), bx1 = floor_div(xmax - SUB / 2, SUB) + 1;
-  int64_t by0 = -floor_div(SUB / 2 - ymin, SUB), by1 = floor_div(ymax - SUB / 2, SUB) + 1;
-  t->x0 = (int)(bx0 > 0 ? bx0 : 0);
-  t->y0 = (int)(by0 > 0 ? by0 : 0);
-  t->x1 = (int)(bx1 < width ? bx1 : width);
-  t->y1 = (int)(by1 < height ? by1 : height);
-  if (t->x0 >= t->x1 || t->y0 >= t->y1) return 0;
+  static const int next[3] = {1, 2, 0}, prev[3] = {2, 0, 1};
   for (int i = 0; i < 3; i++) {
     /* edge i runs from vertex i+1 to i+2; with d = end - start,
     ** e(P) = dx (P.y - start.y) - dy (P.x - start.x) */
-    const RastVert *s = v[(i + 1) % 3], *e = v[(i + 2) % 3];
+    const RastVert *s = v[next[i]], *e = v[prev[i]];
     int64_t dx = e->X - s->X, dy = e->Y - s->Y;
     t->a[i] = (int32_t)-dy;   /* |dx|, |dy| < 2^25 inside the guard band */
     t->b[i] = (int32_t)dx;
@@ -159,9 +168,11 @@ static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], 
     int top_left = dy < 0 || (dy == 0 && dx > 0);
     if (!top_left) t->c[i] -= 1;
   }
-  double ex1 = (double)(v[1]->X - v[0]->X) / SUB, ey1 = (double)(v[1]->Y - v[0]->Y) / SUB;
-  double ex2 = (double)(v[2]->X - v[0]->X) / SUB, ey2 = (double)(v[2]->Y - v[0]->Y) / SUB;
-  double inv_det = 1.0 / (ex1 * ey2 - ex2 * ey1);
+  /* attribute planes, in pixels relative to vertex 0 */
+  const double inv_sub = 1.0 / SUB;
+  double ex1 = (double)(v[1]->X - v[0]->X) * inv_sub, ey1 = (double)(v[1]->Y - v[0]->Y) * inv_sub;
+  double ex2 = (double)(v[2]->X - v[0]->X) * inv_sub, ey2 = (double)(v[2]->Y - v[0]->Y) * inv_sub;
+  double inv_det = (double)SUB * SUB / (double)(area < 0 ? -area : area);
   double z[3], iw[3], b1w[3], b2w[3];
   for (int i = 0; i < 3; i++) {
     z[i] = v[i]->z;
@@ -169,8 +180,8 @@ static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], 
     b1w[i] = b[ord[i]][0] * v[i]->iw;   /* b / w is affine in screen space */
     b2w[i] = b[ord[i]][1] * v[i]->iw;
   }
-  t->ox = (float)((double)v[0]->X / SUB);
-  t->oy = (float)((double)v[0]->Y / SUB);
+  t->ox = (float)((double)v[0]->X * inv_sub);
+  t->oy = (float)((double)v[0]->Y * inv_sub);
   plane(t->z, z, ex1, ey1, ex2, ey2, inv_det);
   plane(t->iw, iw, ex1, ey1, ex2, ey2, inv_det);
   plane(t->b1w, b1w, ex1, ey1, ex2, ey2, inv_det);
@@ -222,7 +233,7 @@ int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int
   static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   unsigned all = v[0]->outcode & v[1]->outcode & v[2]->outcode;
   unsigned any = v[0]->outcode | v[1]->outcode | v[2]->outcode;
-  if (all) return 0;                  /* wholly outside one plane */
+  if (all || (any & RAST_INVALID)) return 0;   /* wholly outside one plane, or not a number */
   if (any) return emit_clipped(list, v, any, object, face, width, height);
   if (!setup(list_push(list), v, corner_bary, object, face, width, height)) return 0;
   list->n++;

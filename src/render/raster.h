@@ -69,9 +69,12 @@ typedef struct RastTarget {
 /* A vertex projected for a width x height target: rast_vertex() once per
 ** mesh vertex, then rast_emit() per triangle (shared vertices are projected
 ** once, and neighbours see bit-identical positions). */
+/* RastVert.outcode bit of a vertex with a NaN or infinite coordinate. */
+#define RAST_INVALID (1u << 6)
+
 typedef struct RastVert {
   double h[4];             /* clip coordinates x, y, z, w */
-  unsigned outcode;        /* planes (near, far, guard band) it is outside of */
+  unsigned outcode;        /* planes (near, far, guard band) it is outside of; RAST_INVALID */
   int64_t X, Y;            /* fixed-point pixel position (when outcode is 0) */
   float z, iw;             /* window depth and 1 / w (when outcode is 0) */
 } RastVert;

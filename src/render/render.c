@@ -72,6 +72,7 @@ static int thread_count(const RenderOptions *o) {
 /* ---- prepare: bounding box and camera -------------------------------------- */
 
 static void box_add(Vec3 *lo, Vec3 *hi, Vec3 p) {
+  if (!(isfinite(p.x) && isfinite(p.y) && isfinite(p.z))) return;
   lo->x = fmin(lo->x, p.x); lo->y = fmin(lo->y, p.y); lo->z = fmin(lo->z, p.z);
   hi->x = fmax(hi->x, p.x); hi->y = fmax(hi->y, p.y); hi->z = fmax(hi->z, p.z);
 }
@@ -186,6 +187,70 @@ static void object_facing(RenderObject *o, const Camera *c) {
   }
 }
 
+/* A closed mesh (every edge between exactly two triangles), oriented
+** consistently (its two triangles run along an edge in opposite
+** directions) and outward (positive volume), lying wholly beyond the near
+** plane, shows only front faces: each view ray enters it through one. Its
+** back faces then need no drawing. */
+static int can_cull_back(const RenderObject *o, const Camera *c) {
+  const Mesh *m = o->mesh;
+  if (m->ntris == 0 || !m->edges || !m->tri_edges) return 0;
+  for (int e = 0; e < m->nedges; e++)
+    if (m->edges[e].f[1] < 0 || m->edges[e].nonmanifold) return 0;
+  /* each triangle adds +1 to an edge it runs along from v[0] to v[1],
+  ** -1 the other way: a consistent closed mesh leaves every sum at 0 */
+  signed char *turn = xcalloc((size_t)m->nedges + 1, 1);
+  double volume = 0;   /* six times the signed volume: sum of p0 . (p1 x p2) */
+  for (int t = 0; t < m->ntris; t++) {
+    for (int k = 0; k < 3; k++) {
+      int e = m->tri_edges[t][k];
+      turn[e] += m->tri[t][k] == m->edges[e].v[0] ? 1 : -1;
+    }
+    const float *p0 = o->wpos[m->tri[t][0]], *p1 = o->wpos[m->tri[t][1]], *p2 = o->wpos[m->tri[t][2]];
+    volume += (double)p0[0] * ((double)p1[1] * p2[2] - (double)p1[2] * p2[1]) +
+              (double)p0[1] * ((double)p1[2] * p2[0] - (double)p1[0] * p2[2]) +
+              (double)p0[2] * ((double)p1[0] * p2[1] - (double)p1[1] * p2[0]);
+  }
+  int consistent = 1;
+  for (int e = 0; e < m->nedges && consistent; e++) consistent = turn[e] == 0;
+  free(turn);
+  if (!consistent || !(volume > 0)) return 0;
+  double fx = c->forward.x, fy = c->forward.y, fz = c->forward.z;
+  double limit = v3_dot(c->eye, c->forward) + c->znear * 1.001;
+  for (int v = 0; v < m->nverts; v++) {   /* every vertex clearly in front of the near plane */
+    const float *p = o->wpos[v];
+    if (p[0] * fx + p[1] * fy + p[2] * fz <= limit) return 0;
+  }
+  return 1;
+}
+
+/* Tessellate (or subdivide) o's geometry for f's camera and move it to
+** world space; returns 0 after a diagnostic when subdivision fails. */
+static int tessellate_object(RenderFrame *f, RenderObject *o) {
+  const SceneObject *so = o->src;
+  const SceneGeometry *g = so->geometry;
+  int ok = 1;
+  if (g && g->kind == GEOM_MESH && g->subdiv_level > 0) {   /* OpenSubdiv (subdiv.h) */
+    char err[256];
+    double t0 = stats_now();
+    o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
+    stats_record("subdiv", stats_now() - t0);
+    if (!o->mesh) {
+      diag_error(g->loc, "%s", err);
+      o->mesh = mesh_create(0, 0);
+      ok = 0;
+    }
+  } else {
+    Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
+    int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
+    o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
+                : mesh_create(0, 0);
+  }
+  object_to_world(o);
+  f->ntriangles += o->mesh->ntris;
+  return ok;
+}
+
 static int prepare_objects(const Scene *s, RenderFrame *f) {
   int ok = 1;
   f->nobjects = s->nobjects;
@@ -196,38 +261,45 @@ static int prepare_objects(const Scene *s, RenderFrame *f) {
     o->src = so;
     o->object_to_world = so->transform;
     o->style = &f->styles[so->style >= 0 && so->style < s->nstyles ? so->style : s->nstyles];
-    Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
-    int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
-    const SceneGeometry *g = so->geometry;
-    if (g && g->kind == GEOM_MESH && g->subdiv_level > 0) {   /* OpenSubdiv (subdiv.h) */
-      char err[256];
-      double t0 = stats_now();
-      o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
-      stats_record("subdiv", stats_now() - t0);
-      if (!o->mesh) {
-        diag_error(g->loc, "%s", err);
-        o->mesh = mesh_create(0, 0);
-        ok = 0;
-      }
-    } else {
-      o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
-                  : mesh_create(0, 0);
-    }
-    object_to_world(o);
-    f->ntriangles += o->mesh->ntris;
+    ok &= tessellate_object(f, o);
   }
   return ok;
 }
 
+/* Adaptive tessellation measured its pixels with the camera that framed
+** the control boxes; after refitting, tessellate those objects again so
+** the tolerance holds in the final view. */
+static void retessellate_adaptive(RenderFrame *f) {
+  for (int i = 0; i < f->nobjects; i++) {
+    RenderObject *o = &f->objects[i];
+    const SceneGeometry *g = o->src->geometry;
+    if (o->src->tess_kind != TESS_ADAPTIVE || !g || g->kind != GEOM_PATCHES) continue;
+    f->ntriangles -= o->mesh->ntris;
+    mesh_destroy(o->mesh);
+    free(o->wpos);
+    free(o->wnrm);
+    tessellate_object(f, o);
+  }
+}
+
 /* An automatic camera framed the objects' control boxes; frame the
-** surfaces themselves now that they exist (tighter, and centred). */
-static void refit_camera(RenderFrame *f) {
+** surfaces themselves now that they exist (tighter, and centred), with
+** any origami sheets as scene_box saw them. */
+static void refit_camera(const Scene *s, RenderFrame *f) {
   CameraFit fit;
   camera_fit_init(&fit, &f->camera);
   for (int i = 0; i < f->nobjects; i++) {
     const RenderObject *o = &f->objects[i];
     for (int v = 0; v < o->mesh->nverts; v++)
       camera_fit_add(&fit, &f->camera, v3(o->wpos[v][0], o->wpos[v][1], o->wpos[v][2]));
+  }
+  for (int i = 0; i < s->norigami; i++) {
+    const SceneOrigami *og = &s->origami[i];
+    for (int v = 0; v < og->nverts; v++) {
+      Vec3 p = og->has_folded ? v3(og->folded[v].x, og->folded[v].y, 0)
+                              : v3(og->verts[v].x, og->verts[v].y, 0);
+      camera_fit_add(&fit, &f->camera, m4_point(og->transform, p));
+    }
   }
   camera_fit_apply(&f->camera, &fit);
 }
@@ -237,6 +309,7 @@ static void prepare_view(RenderFrame *f) {
   for (int i = 0; i < f->nobjects; i++) {
     RenderObject *o = &f->objects[i];
     object_facing(o, &f->camera);
+    o->cull_back = can_cull_back(o, &f->camera);
     if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
   }
 }
@@ -263,11 +336,17 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   double t1 = stats_now();
   int ok = prepare_objects(s, f);
   double t2 = stats_now();
-  if (!s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE) refit_camera(f);
+  double retess = 0;
+  if (!s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE) {
+    refit_camera(s, f);
+    double t3 = stats_now();
+    retessellate_adaptive(f);
+    retess = stats_now() - t3;
+  }
   prepare_lights(s, f);
   prepare_view(f);
-  stats_record("prepare", t1 - t0 + stats_now() - t2);
-  stats_record("tessellate", t2 - t1);
+  stats_record("prepare", t1 - t0 + stats_now() - t2 - retess);
+  stats_record("tessellate", t2 - t1 + retess);
   stats_record_count("tessellate", "triangles", f->ntriangles);
   return ok;
 }
@@ -370,12 +449,14 @@ static void project_chunk(void *ctx, int k) {
 static void emit_chunk(void *ctx, int k) {
   SetupJob *job = ctx;
   const SetupChunk *c = &job->chunks[k];
-  const Mesh *m = job->f->objects[c->object].mesh;
+  const RenderObject *o = &job->f->objects[c->object];
+  const Mesh *m = o->mesh;
   const RastVert *rv = job->verts[c->object];
   RastTriList *list = &job->lists[k];
   list->cap = c->end - c->start;   /* one each, unless clipping splits some */
   list->tris = xmalloc((size_t)list->cap * sizeof *list->tris);
   for (int t = c->start; t < c->end; t++) {
+    if (o->cull_back && o->backfacing[t]) continue;   /* hidden by the object's front */
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
     rast_emit(list, tv, c->object, t, job->gw, job->gh);
   }
@@ -553,16 +634,20 @@ static void shade_sample(const TileJob *job, int obj, int face, const float bary
 static void shade_tile_1(const TileJob *job, const RastTarget *rt) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
+  int nc = job->out->channels;       /* 3, or 4 with alpha */
   for (int y = rt->y0; y < rt->y1; y++) {
-    float *o = &job->out->data[((size_t)y * job->f->width + rt->x0) * 4];
+    float *o = &job->out->data[((size_t)y * job->f->width + rt->x0) * nc];
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-    for (int x = rt->x0; x < rt->x1; x++, i++, o += 4) {
+    for (int x = rt->x0; x < rt->x1; x++, i++, o += nc) {
       if (rt->object[i] < 0) {
-        o[0] = bgu[0]; o[1] = bgu[1]; o[2] = bgu[2]; o[3] = bgu[3];
+        o[0] = bgu[0]; o[1] = bgu[1]; o[2] = bgu[2];
+        if (nc == 4) o[3] = bgu[3];
         continue;
       }
-      shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], o);
-      o[3] = 1;
+      float rgb[3];   /* shaded in registers, stored once */
+      shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], rgb);
+      o[0] = rgb[0]; o[1] = rgb[1]; o[2] = rgb[2];
+      if (nc == 4) o[3] = 1;
     }
   }
 }
@@ -576,9 +661,10 @@ static void shade_tile(const TileJob *job, const RastTarget *rt) {
   Color bg = f->background;
   float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
   float nn = (float)(N * N), inv_nn = 1.0f / nn;
+  int nc = job->out->channels;       /* 3, or 4 with alpha */
   for (int py = rt->y0 / N; py < rt->y1 / N; py++) {
-    float *o = &job->out->data[((size_t)py * W + rt->x0 / N) * 4];
-    for (int px = rt->x0 / N; px < rt->x1 / N; px++, o += 4) {
+    float *o = &job->out->data[((size_t)py * W + rt->x0 / N) * nc];
+    for (int px = rt->x0 / N; px < rt->x1 / N; px++, o += nc) {
       float acc[4] = {0, 0, 0, 0};
       for (int sy = py * N; sy < py * N + N; sy++) {
         int i = (sy - rt->oy) * rt->stride + (px * N - rt->ox);
@@ -595,7 +681,8 @@ static void shade_tile(const TileJob *job, const RastTarget *rt) {
       /* back to unassociated alpha: divide by the summed alpha (a
       ** multiply when the pixel is opaque, the common case) */
       float un = acc[3] == nn ? inv_nn : acc[3] > 0 ? 1 / acc[3] : 0;
-      o[0] = acc[0] * un; o[1] = acc[1] * un; o[2] = acc[2] * un; o[3] = acc[3] * inv_nn;
+      o[0] = acc[0] * un; o[1] = acc[1] * un; o[2] = acc[2] * un;
+      if (nc == 4) o[3] = acc[3] * inv_nn;
     }
   }
 }
@@ -706,7 +793,9 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     render_frame_free(&f);
     return 1;
   }
-  *out = image_create(f.width, f.height, 4);
+  /* RGB over an opaque background (smaller, and PNG encodes it faster) */
+  *out = image_create(f.width, f.height, f.background.a >= 1 ? 3 : 4);
+  gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * (*out)->channels * sizeof(float));
   render_frame(&f, o, *out, gbuf_out);
   /* lines (issue 6, src/render/lines.h): strokes composited over the shaded image */
   if (!line_render_frame(&f, thread_count(o), *out, NULL, NULL)) {

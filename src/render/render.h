@@ -4,12 +4,15 @@
 **   prepare   tessellate every object (tessellate.h), move it to world
 **             space, frame the camera, resolve lights and styles
 **   raster    clip, set up and bin the triangles into screen tiles, then
-**             scan-convert each tile into the G-buffer (raster.h)
+**             scan-convert each tile into the G-buffer (raster.h); back
+**             faces of closed meshes seen from outside are skipped
 **   shade     each sample by its object's style (shade.h), box-filter the
 **             samples of each pixel (`samples N`) over the background
-** Raster and shade run tile by tile on --threads workers; every tile's
-** result depends only on the scene, so the image is byte-identical at any
-** thread count.
+**   lines     the line stage (lines.h) draws its strokes over the image
+** Setup, raster and shade run in chunks and screen tiles on --threads
+** workers; every chunk's and tile's result depends only on the scene, so
+** the image is byte-identical at any thread count. Each stage records its
+** time in the --stats table (stats.h).
 **
 ** The prepared frame (RenderFrame) is public so later stages (lines, AOVs)
 ** read the same meshes, camera and lights the rasterizer used.
@@ -64,8 +67,10 @@ typedef struct RenderStyle {
   float ambient;
   float specular, shininess;
   int bands_n;                 /* T_n's n for the diffuse term (bands - 1) */
+  float inv_bands_n;           /* 1 / bands_n */
   float threshold;
   int spec_n;                  /* T_n's n for the specular term */
+  float inv_spec_n;
   float spec_threshold;
   float spec_cut;              /* n.h below which T_n(f_s) is surely 0 */
   float edge;                  /* n.v cutoff, 0 = no silhouette ramp */
@@ -84,6 +89,8 @@ typedef struct RenderObject {
   float (*wpos)[3];            /* mesh->nverts world positions */
   float (*wnrm)[3];            /* mesh->nverts world unit normals */
   unsigned char *backfacing;   /* per triangle: its front faces away from the camera */
+  int cull_back;               /* closed, outward and seen from outside: back faces
+                                  are hidden, the rasterizer skips them */
   float (*vcolor)[3];          /* gouraud: per-vertex lit colour, else NULL */
 } RenderObject;
 
@@ -114,14 +121,15 @@ void render_resolve_size(const Scene *s, int cli_w, int cli_h, int *w, int *h);
 int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f);
 void render_frame_free(RenderFrame *f);
 
-/* Rasterize and shade f into out (an RGBA image of f's size, created by
-** the caller). When gbuf_out is not NULL, *gbuf_out receives the whole
+/* Rasterize and shade f into out (an image of f's size created by the
+** caller: RGB, or RGBA when the background is not opaque). When gbuf_out is not NULL, *gbuf_out receives the whole
 ** G-buffer (caller frees with gbuf_destroy); otherwise each worker keeps
 ** only the tile it is drawing. */
 void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuffer **gbuf_out);
 
-/* The whole pipeline: prepare, rasterize, shade. *out receives a new RGBA
-** image (image_destroy). Returns 0 on success, 1 when the scene cannot be
+/* The whole pipeline: prepare, rasterize, shade, lines. *out receives a
+** new image (image_destroy): RGB when the background is opaque, else RGBA
+** (unassociated alpha). Returns 0 on success, 1 when the scene cannot be
 ** rendered (diagnostics reported). */
 int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out);
 

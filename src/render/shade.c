@@ -60,6 +60,8 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->threshold = (float)t->threshold;
   rs->spec_n = (t->specular_bands >= 2 ? t->specular_bands : 2) - 1;
   rs->spec_threshold = (float)t->specular_threshold;
+  rs->inv_bands_n = 1.0f / rs->bands_n;
+  rs->inv_spec_n = 1.0f / rs->spec_n;
   /* T_n(x, t) is 0 for x < t / n, and f_s = (n.h)^s is below that while
   ** n.h < (t / n)^(1 / s): the toon model skips its pow() there. */
   rs->spec_cut = rs->spec_threshold > 0

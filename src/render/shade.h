@@ -76,15 +76,18 @@ static inline float shade_diffuse(const float n[3], const float l[3]) {
 float shade_specular(const float n[3], const float l[3], const float v[3], float shininess);
 
 /* The multi-band step T_n(x, t) = (floor(x n) + T(frac(x n), t)) / n with
-** T(y, t) = 0 if y < t else 1; x is clamped to [0, 1] first. n >= 1; gives
-** the n + 1 levels 0, 1/n, ..., 1 (002 eq. 4). */
-static inline float shade_step(float x, float t, int n) {
-  x = x < 0 ? 0 : x > 1 ? 1 : x;
+** T(y, t) = 0 if y < t else 1; x is clamped to [0, 1] first (NaN to 0).
+** n >= 1; gives the n + 1 levels 0, 1/n, ..., 1 (002 eq. 4). inv_n is
+** 1 / n, passed in so the shading loop does not divide. */
+static inline float shade_step_inv(float x, float t, int n, float inv_n) {
+  x = x > 0 ? (x < 1 ? x : 1) : 0;                  /* NaN too goes to 0 */
   float xn = x * n;
   float whole = (float)(int)xn;                      /* floor: xn >= 0 */
   float frac = xn - whole;
-  return (whole + (frac < t ? 0.0f : 1.0f)) / n;    /* T(frac(xn), t) adds the last step */
+  return (whole + (frac < t ? 0.0f : 1.0f)) * inv_n; /* T(frac(xn), t) adds the last step */
 }
+
+static inline float shade_step(float x, float t, int n) { return shade_step_inv(x, t, n, 1.0f / n); }
 
 /* Per-vertex colours of a gouraud object (o->vcolor, allocated here):
 ** the phong terms at each vertex with its normal turned toward the

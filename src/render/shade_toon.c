@@ -19,7 +19,7 @@ static inline float dot3(const float a[3], const float b[3]) {
 /* The ramp colour for a value x in [0, 1]: the ramp's n colours split
 ** [0, 1] into n equal steps (a 1D texture read with nearest filtering). */
 static const Color *ramp_at(const Color *ramp, int n, float x) {
-  int i = (int)(x * n);
+  int i = x > 0 ? (x < 1 ? (int)(x * n) : n - 1) : 0;   /* NaN reads the first colour */
   return &ramp[i < 0 ? 0 : i >= n ? n - 1 : i];
 }
 
@@ -28,12 +28,12 @@ static const Color *ramp_at(const Color *ramp, int n, float x) {
 static float banded_specular(const RenderStyle *st, const float n[3], const float l[3],
                              const float v[3]) {
   if (dot3(n, l) <= 0) return 0;
-  float h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};
-  float hl = sqrtf(dot3(h, h));
-  if (hl <= 0) return 0;
-  float nh = dot3(n, h) / hl;
-  if (nh <= st->spec_cut) return 0;
-  return shade_step(powf(nh, st->shininess), st->spec_threshold, st->spec_n);
+  float h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};   /* unnormalised half vector */
+  float nh = dot3(n, h), hh = dot3(h, h);
+  /* n.h / |h| <= cut, tested without the square root (most samples stop here) */
+  if (nh <= 0 || nh * nh <= st->spec_cut * st->spec_cut * hh) return 0;
+  nh /= sqrtf(hh);
+  return shade_step_inv(powf(nh, st->shininess), st->spec_threshold, st->spec_n, st->inv_spec_n);
 }
 
 /* Colour ramps: the diffuse (and specular) values of all lights, weighted
@@ -48,14 +48,14 @@ static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeT
     d += shade_diffuse(s->n, l) * w;
     if (st->specular > 0) sp += shade_specular(s->n, l, s->v, st->shininess) * w;
   }
-  const Color *cd = ramp_at(t->ramp, t->nramp, d > 1 ? 1 : d);
+  const Color *cd = ramp_at(t->ramp, t->nramp, d);
   rgb[0] = cd->r; rgb[1] = cd->g; rgb[2] = cd->b;
   if (st->specular <= 0) return;
   if (t->nspecular_ramp > 0) {
-    const Color *cs = ramp_at(t->specular_ramp, t->nspecular_ramp, sp > 1 ? 1 : sp);
+    const Color *cs = ramp_at(t->specular_ramp, t->nspecular_ramp, sp);
     rgb[0] += cs->r; rgb[1] += cs->g; rgb[2] += cs->b;
   } else {
-    float k = st->specular * shade_step(sp, st->spec_threshold, st->spec_n);
+    float k = st->specular * shade_step_inv(sp, st->spec_threshold, st->spec_n, st->inv_spec_n);
     rgb[0] += k; rgb[1] += k; rgb[2] += k;
   }
 }
@@ -66,7 +66,7 @@ static void toon_bands(const ShadeSample *s, const RenderStyle *st, float rgb[3]
   for (int i = 0; i < s->frame->nlights; i++) {
     float l[3], col[3];
     shade_light(s->frame, i, s->p, l, col);
-    float td = shade_step(shade_diffuse(s->n, l), st->threshold, st->bands_n);
+    float td = shade_step_inv(shade_diffuse(s->n, l), st->threshold, st->bands_n, st->inv_bands_n);
     float ts = st->specular > 0 ? st->specular * banded_specular(st, s->n, l, s->v) : 0;
     for (int c = 0; c < 3; c++) rgb[c] += (st->base[c] * td + ts) * col[c];
   }

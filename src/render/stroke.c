@@ -435,13 +435,24 @@ static void composite(const Band *b, const Stroke *st, Image *target, int ya, in
       c[x] = 0;
       if (a <= 0) continue;
       float *p = px + (size_t)x * ch;
-      for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
-      if (alpha >= 0) p[alpha] = p[alpha] + a * (1 - p[alpha]);
+      if (alpha < 0) {
+        for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
+        continue;
+      }
+      /* "over" with unassociated alpha: what shows through is weighted by
+      ** its own alpha, so ink on a transparent pixel keeps its colour */
+      float under = p[alpha] * (1 - a), out = a + under;
+      for (int k = 0; k < ncol; k++) p[k] = out > 0 ? (col[k] * a + p[k] * under) / out : col[k];
+      p[alpha] = out;
     }
     b->lo[r] = b->w;
     b->hi[r] = -1;
   }
 }
+
+/* Most rows a band has: a worker's coverage buffer is this many rows of the
+** target (16 MiB at 16384 pixels wide). */
+#define STROKE_BAND_ROWS 256
 
 typedef struct StrokeJob {
   const StrokeList *sl;
@@ -479,6 +490,7 @@ void stroke_render(const StrokeList *sl, Image *target, int threads) {
   int nbands = threads > 1 ? threads * 4 : 1;
   if (nbands > target->height) nbands = target->height;
   int band_h = (target->height + nbands - 1) / nbands;
+  if (band_h > STROKE_BAND_ROWS) band_h = STROKE_BAND_ROWS;   /* bounds each worker's buffer */
   nbands = (target->height + band_h - 1) / band_h;
   int nw = threads < nbands ? threads : nbands;
   StrokeJob job = {sl, target, nbands, xmalloc((size_t)nw * sizeof(float *)),

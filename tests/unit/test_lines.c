@@ -349,33 +349,30 @@ TEST(visible_and_hidden) {
 
 /* One-pixel runs are dropped, unless the whole walk is one pixel. */
 TEST(one_pixel_segments) {
-  uint32_t img[16 * 16];
-  memset(img, 0, sizeof img);
   LineRef ref;
-  memset(&ref, 0, sizeof ref);
-  ref.width = ref.height = ref.bw = ref.bh = 16;
-  ref.id = img;
+  line_ref_blank(&ref, 16, 16);
   LineSpan s;
   memset(&s, 0, sizeof s);
   s.x0 = 2.5f; s.y0 = 5.5f; s.x1 = 12.5f; s.y1 = 5.5f;
   s.px0 = 2; s.py0 = 5; s.px1 = 12; s.py1 = 5; s.nsteps = 11;
   s.real0 = s.real1 = 1;
-  img[5 * 16 + 7] = 9;   /* a lone pixel in the middle */
+  ref.id[line_ref_at(&ref, 7, 5)] = 9;   /* a lone pixel in the middle */
   LineSeg seg[8];
   CHECK_EQ_INT(line_trace_span(&ref, &s, 9, 0, 0, seg), 0);
-  img[5 * 16 + 8] = 9;   /* two pixels: a segment */
+  ref.id[line_ref_at(&ref, 8, 5)] = 9;   /* two pixels: a segment */
   CHECK_EQ_INT(line_trace_span(&ref, &s, 9, 0, 0, seg), 1);
   LineSpan dot = s;
   dot.x1 = 2.9f; dot.px1 = 2; dot.nsteps = 1;
-  img[5 * 16 + 2] = 4;
+  ref.id[line_ref_at(&ref, 2, 5)] = 4;
   CHECK_EQ_INT(line_trace_span(&ref, &dot, 4, 0, 0, seg), 1);
   CHECK(seg[0].at0 && seg[0].at1);
   CHECK_NEAR(seg[0].x1, 2.9, 1e-6);
   /* search width finds the id a pixel off the walk */
-  memset(img, 0, sizeof img);
-  for (int x = 2; x <= 12; x++) img[6 * 16 + x] = 3;
+  memset(ref.id, 0, (size_t)ref.nblocks * LINE_REF_TILE_PX * sizeof *ref.id);
+  for (int x = 2; x <= 12; x++) ref.id[line_ref_at(&ref, x, 6)] = 3;
   CHECK_EQ_INT(line_trace_span(&ref, &s, 3, 0, 0, seg), 0);
   CHECK_EQ_INT(line_trace_span(&ref, &s, 3, 1, 0, seg), 1);
+  line_ref_free(&ref);
 }
 
 /* ---- linking ---------------------------------------------------------------- */
@@ -528,6 +525,20 @@ TEST(stroke_coverage) {
     CHECK_NEAR(img->data[(16 * 32 + 16) * 4], 0, 1e-6);
     CHECK_NEAR(img->data[(19 * 32 + 16) * 4], 1, 1e-6);
     CHECK_NEAR(img->data[(16 * 32 + 16) * 4 + 3], 1, 1e-6);   /* alpha stays opaque */
+    /* over a transparent pixel (unassociated alpha) ink keeps its colour
+    ** and the coverage becomes the alpha */
+    for (int i = 0; i < 32 * 32; i++) {
+      img->data[4 * i] = 1; img->data[4 * i + 1] = img->data[4 * i + 2] = 0.5f; img->data[4 * i + 3] = 0;
+    }
+    stroke_render(sl, img, 1);
+    int partial = 0;
+    for (int y = 0; y < 32; y++) {
+      const float *q = &img->data[(y * 32 + 16) * 4];
+      if (q[3] > 0) CHECK_NEAR(q[0], 0, 1e-6);
+      partial += q[3] > 0.01f && q[3] < 0.99f;
+    }
+    CHECK(partial >= 1);
+    CHECK_NEAR(img->data[(16 * 32 + 16) * 4 + 3], 1, 1e-6);
     image_destroy(img);
     stroke_list_free(sl);
   }

@@ -147,6 +147,36 @@ TEST(fill_rule_fan_around_sample_centre) {
   free(t);
 }
 
+/* A quad reaching a million pixels past the image (clipped against the
+** guard band), split by a diagonal that crosses the image: every sample
+** is covered exactly once, by the triangle on its side of the diagonal. */
+TEST(fill_rule_through_guard_band_clipping) {
+  RastVert vs[4];
+  double big = 1e6;
+  pixel_vertex(&vs[0], -big, -big * 0.7, 0.5);
+  pixel_vertex(&vs[1], big, -big, 0.5);
+  pixel_vertex(&vs[2], big * 0.9, big, 0.5);
+  pixel_vertex(&vs[3], -big, big, 0.5);
+  CHECK(vs[0].outcode && vs[2].outcode);
+  Target *t = xmalloc(sizeof *t);
+  target_init(t);
+  draw(t, vs, 0, 1, 2, 0);
+  draw(t, vs, 0, 2, 3, 1);
+  int once = 0, side_ok = 0;
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) {
+      int i = y * W + x;
+      once += t->count[i] == 1;
+      /* the side of the diagonal v0 -> v2 the sample centre is on */
+      double ex = big * 0.9 + big, ey = big + big * 0.7;
+      double side = ex * (y + 0.5 + big * 0.7) - ey * (x + 0.5 + big);
+      side_ok += (side < 0) == (t->face[i] == 0) || fabs(side) < 1e-3 * big;
+    }
+  CHECK_EQ_INT(once, W * H);
+  CHECK_EQ_INT(side_ok, W * H);
+  free(t);
+}
+
 /* ---- depth and barycentrics --------------------------------------------------- */
 
 /* Two overlapping triangles: the nearer wins whatever the drawing order,
@@ -327,7 +357,8 @@ TEST(identical_bytes_at_1_2_8_threads) {
     RenderOptions o = {0, 0, threads[k], 0, 0};
     CHECK_EQ_INT(render_scene(&s, &o, &img[k], &gb[k]), 0);
   }
-  size_t n = (size_t)img[0]->width * img[0]->height * 4 * sizeof(float);
+  CHECK_EQ_INT(img[0]->channels, 3);   /* opaque background: RGB */
+  size_t n = (size_t)img[0]->width * img[0]->height * img[0]->channels * sizeof(float);
   size_t ns = (size_t)gb[0]->width * gb[0]->height;
   for (int k = 1; k < 3; k++) {
     CHECK(memcmp(img[0]->data, img[k]->data, n) == 0);
@@ -391,6 +422,104 @@ TEST(closed_mesh_has_no_cracks) {
   arena_free(&s.arena);
 }
 
+/* Back faces are skipped only where they cannot show: a closed, outward
+** mesh seen from outside. Inside it, or turned inside out, or opened,
+** every face is drawn. Skipping never changes a visible sample. */
+TEST(back_face_culling_only_when_hidden) {
+  Scene s;
+  build_scene(&s, SHADE_PHONG);
+  s.nobjects = 1;
+  s.output.samples = 1;
+  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderFrame f;
+  CHECK(render_prepare(&s, &o, &f));
+  CHECK_EQ_INT(f.objects[0].cull_back, 1);
+  Vec3 toward = v3_mul(f.camera.forward, -1);
+  render_frame_free(&f);
+  GBuffer *gc, *go;
+  Image *closed, *open;
+  CHECK_EQ_INT(render_scene(&s, &o, &closed, &gc), 0);
+  /* opened: the face farthest from the camera moved to the end and dropped;
+  ** every face is drawn then, and the picture is the same */
+  SceneGeometry *g = s.objects[0].geometry;
+  int far = 0;
+  double best = 1e9;
+  for (int k = 0; k < g->nfaces; k++) {
+    Vec3 c = v3(0, 0, 0);
+    int nk = g->face_start[k + 1] - g->face_start[k];
+    for (int j = g->face_start[k]; j < g->face_start[k + 1]; j++) c = v3_add(c, v3_mul(g->verts[g->face_index[j]], 1.0 / nk));
+    if (v3_dot(c, toward) < best) { best = v3_dot(c, toward); far = k; }
+  }
+  int *saved = arena_alloc(&s.arena, sizeof *saved * g->face_start[g->nfaces]);
+  memcpy(saved, g->face_index, sizeof *saved * g->face_start[g->nfaces]);
+  int m = 0;   /* rebuild without face far */
+  for (int k = 0, start = 0; k < g->nfaces; k++) {
+    int a = g->face_start[k], b = g->face_start[k + 1];
+    g->face_start[k] = start;
+    if (k == far) { g->face_start[k] = start; continue; }
+    for (int j = a; j < b; j++) g->face_index[m++] = saved[j];
+    start = m;
+  }
+  /* the dropped face now has no indices: tess_polygons skips it */
+  g->face_start[g->nfaces] = m;
+  CHECK(render_prepare(&s, &o, &f));
+  CHECK_EQ_INT(f.objects[0].cull_back, 0);
+  render_frame_free(&f);
+  CHECK_EQ_INT(render_scene(&s, &o, &open, &go), 0);
+  /* (triangle numbers shift with the dropped face: compare what shows) */
+  int differ = 0;
+  for (int i = 0; i < gc->width * gc->height; i++)
+    differ += gc->object[i] != go->object[i] || memcmp(&closed->data[i * 3], &open->data[i * 3], 3 * sizeof(float)) != 0;
+  CHECK(differ <= 2);   /* at most a sample on the outline */
+  /* inside out (every face reversed): not culled */
+  for (int k = 0; k < g->nfaces; k++)
+    for (int a = g->face_start[k], b = g->face_start[k + 1] - 1; a < b; a++, b--) {
+      int t = g->face_index[a]; g->face_index[a] = g->face_index[b]; g->face_index[b] = t;
+    }
+  CHECK(render_prepare(&s, &o, &f));
+  CHECK_EQ_INT(f.objects[0].cull_back, 0);
+  render_frame_free(&f);
+  /* from inside the sphere: not culled, and its inside fills the view */
+  s.camera = (SceneCamera){.present = 1, .kind = CAMERA_PERSPECTIVE, .position = v3(0, 0, 0),
+                           .look_at = v3(1, 0, 0), .up = v3(0, 0, 1), .fov = 60};
+  CHECK(render_prepare(&s, &o, &f));
+  CHECK_EQ_INT(f.objects[0].cull_back, 0);
+  render_frame_free(&f);
+  GBuffer *gi;
+  Image *inside;
+  CHECK_EQ_INT(render_scene(&s, &o, &inside, &gi), 0);
+  int empty = 0;
+  for (int i = 0; i < gi->width * gi->height; i++) empty += gi->object[i] < 0;
+  CHECK_EQ_INT(empty, 0);
+  image_destroy(closed);
+  image_destroy(open);
+  image_destroy(inside);
+  gbuf_destroy(gc);
+  gbuf_destroy(go);
+  gbuf_destroy(gi);
+  arena_free(&s.arena);
+}
+
+/* Coordinates that are not numbers (a NaN or infinite transform) draw
+** nothing of that object, and nothing breaks. */
+TEST(non_finite_geometry_is_dropped) {
+  Scene s;
+  build_scene(&s, SHADE_TOON);
+  s.objects[1].transform.m[0][0] = NAN;
+  s.objects[2].transform.m[1][3] = INFINITY;
+  Image *img;
+  GBuffer *gb;
+  RenderOptions o = {0, 0, 2, 0, 0};
+  CHECK_EQ_INT(render_scene(&s, &o, &img, &gb), 0);
+  int seen[4] = {0};
+  for (int i = 0; i < gb->width * gb->height; i++) seen[gb->object[i] + 1]++;
+  CHECK(seen[1] > 1000);             /* the finite sphere shows */
+  CHECK(seen[2] == 0 && seen[3] == 0);
+  image_destroy(img);
+  gbuf_destroy(gb);
+  arena_free(&s.arena);
+}
+
 TEST(limits_are_diagnosed) {
   Scene s;
   build_scene(&s, SHADE_FLAT);
@@ -419,9 +548,10 @@ TEST(empty_scene_is_background) {
   Image *img;
   RenderOptions o = {0, 0, 3, 0, 0};
   CHECK_EQ_INT(render_scene(&s, &o, &img, NULL), 0);
+  CHECK_EQ_INT(img->channels, 4);   /* a see-through background keeps alpha */
   int wrong = 0;
   for (int i = 0; i < 40 * 30; i++) {
-    const float *p = &img->data[i * 4];
+    const float *p = &img->data[i * img->channels];
     wrong += p[0] != 0.25f || p[1] != 0.5f || p[2] != 0.75f || p[3] != 0.5f;
   }
   CHECK_EQ_INT(wrong, 0);
@@ -452,6 +582,7 @@ int main(void) {
   RUN(fill_rule_vertices_on_sample_centres);
   RUN(fill_rule_vertices_on_pixel_corners);
   RUN(fill_rule_fan_around_sample_centre);
+  RUN(fill_rule_through_guard_band_clipping);
   RUN(depth_test_keeps_nearest);
   RUN(perspective_correct_barycentrics);
   RUN(near_plane_clipping_keeps_barycentrics);
@@ -459,6 +590,8 @@ int main(void) {
   RUN(unproject_inverts_projection);
   RUN(identical_bytes_at_1_2_8_threads);
   RUN(closed_mesh_has_no_cracks);
+  RUN(back_face_culling_only_when_hidden);
+  RUN(non_finite_geometry_is_dropped);
   RUN(limits_are_diagnosed);
   RUN(empty_scene_is_background);
   RUN(resolve_size);

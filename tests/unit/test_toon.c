@@ -84,7 +84,7 @@ static int object_colours(const Image *img, const GBuffer *g, float out[][3], in
   int k = 0;
   for (int i = 0; i < img->width * img->height; i++) {
     if (g->object[i] < 0) continue;
-    const float *p = &img->data[i * 4];
+    const float *p = &img->data[i * img->channels];
     int seen = 0;
     for (int j = 0; j < k && !seen; j++) seen = !memcmp(out[j], p, sizeof out[j]);
     if (!seen && k < max) memcpy(out[k++], p, sizeof out[0]);
@@ -177,7 +177,7 @@ TEST(edge_by_n_dot_v) {
     Vec3 p = v3(g->position[i][0], g->position[i][1], g->position[i][2]);
     Vec3 v = camera_view_dir(&g->camera, p);
     double nv = v.x * g->normal[i][0] + v.y * g->normal[i][1] + v.z * g->normal[i][2];
-    const float *c = &img->data[i * 4];
+    const float *c = &img->data[i * img->channels];
     int is_edge = c[0] == 1 && c[1] == 0 && c[2] == 1;
     edge += is_edge;
     if (nv < 0.299 && !is_edge) wrong++;
@@ -208,11 +208,12 @@ TEST(lights_add) {
   s.lights = l;
   s.nlights = 2;
   render(&s, &two, &g2);
+  CHECK_EQ_INT(one->channels, 3);   /* opaque background: RGB */
   int brighter = 0, darker = 0;
   for (int i = 0; i < one->width * one->height; i++) {
     if (g1->object[i] < 0) continue;
-    brighter += two->data[i * 4 + 2] > one->data[i * 4 + 2];
-    darker += two->data[i * 4 + 2] < one->data[i * 4 + 2];
+    brighter += two->data[i * 3 + 2] > one->data[i * 3 + 2];
+    darker += two->data[i * 3 + 2] < one->data[i * 3 + 2];
   }
   CHECK(brighter > 100);
   CHECK_EQ_INT(darker, 0);
