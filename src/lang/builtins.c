@@ -20,16 +20,9 @@
 
 #include "../base/rng.h"
 
-#if defined(__has_include)
-#if __has_include("../io/mesh_import.h")
-#include "../io/mesh_import.h"
-#define SUMI_HAVE_MESH_IMPORT 1
-#endif
-#if __has_include("../io/fold.h")
+#include "../geom/subdiv.h"
 #include "../io/fold.h"
-#define SUMI_HAVE_FOLD 1
-#endif
-#endif
+#include "../io/mesh_import.h"
 
 /* Subdivision multiplies faces by 4 a level; 6 levels is 4096 faces for
 ** every input quad, already finer than any pixel at 1080p for a sane mesh. */
@@ -590,7 +583,6 @@ static void resolve_path(const ENode *call, const char *name, char *out, size_t 
 }
 
 static Value mesh_import(Eval *ev, const Str *path, const ENode *call) {
-#ifdef SUMI_HAVE_MESH_IMPORT
   char full[4096], err[512] = "";
   resolve_path(call, path->s, full, sizeof full);
   SceneGeometry *g = geom_new(ev, GEOM_MESH, call);
@@ -600,10 +592,6 @@ static Value mesh_import(Eval *ev, const Str *path, const ENode *call) {
   }
   g->loc = call->range;
   return val_ptr(V_GEOM, g);
-#else
-  ev_error(ev, arg_loc(call, 0), "cannot import `%s`: mesh import is not available in this build", path->s);
-  return val_err();
-#endif
 }
 
 static int get_faces(Eval *ev, List *faces, int nverts, const ENode *call, SceneGeometry *g) {
@@ -712,7 +700,24 @@ static Value bi_subdiv(Eval *ev, Value *a, int n, const ENode *call) {
     }
     g->subdiv_scheme = schemes[k];
   }
+  if (a[5].kind != V_UNSET) {
+    SumiOsdBoundary b;
+    if (a[5].kind != V_STR || !subdiv_boundary_parse(a[5].u.s->s, &b)) {
+      type_error(ev, call, 5, "\"edge_and_corner\", \"edge_only\" or \"none\"", &a[5]);
+      return val_err();
+    }
+    g->subdiv_boundary = a[5].u.s->s;
+  }
   if (get_creases(ev, a, call, g) || get_corners(ev, a, call, g)) return val_err();
+  /* Crease and corner indices, the face limit: caught here, at the script,
+  ** rather than at render time. */
+  char why[256];
+  SumiOsdBoundary boundary;
+  subdiv_boundary_parse(g->subdiv_boundary, &boundary);
+  if (!subdiv_check(g, boundary, why, sizeof why)) {
+    ev_error(ev, call->range, "`subdiv`: %s", why);
+    return val_err();
+  }
   return val_ptr(V_GEOM, g);
 }
 
@@ -721,7 +726,6 @@ static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
     type_error(ev, call, 0, "a file name", &a[0]);
     return val_err();
   }
-#ifdef SUMI_HAVE_FOLD
   char full[4096], err[512] = "";
   resolve_path(call, a[0].u.s->s, full, sizeof full);
   SceneOrigami *o = arena_alloc(&ev->scene->arena, sizeof *o);
@@ -731,10 +735,6 @@ static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
   }
   o->fold_file = arena_strndup(&ev->scene->arena, full, strlen(full));
   return val_ptr(V_PAPER, o);
-#else
-  ev_error(ev, arg_loc(call, 0), "cannot read `%s`: FOLD import is not available in this build", a[0].u.s->s);
-  return val_err();
-#endif
 }
 
 /* ---- statements: echo, assert, children ---------------------------------- */
@@ -798,7 +798,7 @@ static const Builtin builtins[] = {
   {"rgb", bi_rgb, "r,g,b,a", 3, 4, 0},
   {"bezier", bi_bezier, "points", 1, 1, 0}, {"bezier_patches", bi_bezier_patches, "points,patches", 2, 2, 0},
   {"bilinear", bi_bilinear, "p0,p1,p2,p3", 4, 4, 0}, {"mesh", bi_mesh, "points,faces", 1, 2, 0},
-  {"subdiv", bi_subdiv, "mesh,creases,corners,level,scheme", 1, 5, 0},
+  {"subdiv", bi_subdiv, "mesh,creases,corners,level,scheme,boundary", 1, 6, 0},
   {"fold_file", bi_fold_file, "path", 1, 1, 0},
   {"echo", bi_echo, "", 0, -1, 1}, {"assert", bi_assert, "condition,message", 1, 2, 1},
   {"children", bi_children, "index", 0, 1, 1},

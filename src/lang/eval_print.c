@@ -201,7 +201,8 @@ static void print_mesh(const char *pre, const SceneGeometry *g, FILE *out) {
     }
   }
   if (!g->subdiv_level) return;
-  fprintf(out, "%ssubdiv %s level %d\n", pre, g->subdiv_scheme, g->subdiv_level);
+  fprintf(out, "%ssubdiv %s level %d boundary %s\n", pre, g->subdiv_scheme, g->subdiv_level,
+          g->subdiv_boundary ? g->subdiv_boundary : "edge_and_corner");
   for (int i = 0; i < g->ncreases; i++) {
     fprintf(out, "%screase[%d] %d %d ", pre, i, g->creases[i].a, g->creases[i].b);
     put_num(out, g->creases[i].sharpness);

@@ -147,6 +147,7 @@ typedef struct SceneGeometry {
   /* subdivision (through OpenSubdiv) when subdiv_level > 0 */
   int subdiv_level;
   const char *subdiv_scheme;  /* "catmark", "loop", "bilinear" */
+  const char *subdiv_boundary;/* "edge_and_corner" (NULL), "edge_only", "none" */
   int ncreases;
   struct { int a, b; double sharpness; } *creases;
   int ncorners;
