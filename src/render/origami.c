@@ -229,14 +229,23 @@ typedef struct Shading {
   double line_width;         /* buffer pixels */
 } Shading;
 
+/* Linear -> sRGB display value, in [0, 1]. */
+static float display_value(float linear) {
+  double v = linear <= 0 ? 0 : linear >= 1 ? 1 : linear;
+  return (float)(v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055);
+}
+
 static Shading shading_of(const SceneStyle *style, double pixel_scale) {
   Shading s = {1, {1.0f, 1.0f, 0.95f}, {0.675, 0.225, 0.15}, ORIGAMI_DEFAULT_RADIUS, 0,
                {0.0078f, 0.0078f, 0.0078f}, 1, 2};         /* ink #141414, 2 px */
   if (style && style->shade.kind == SHADE_ORIGAMI) {
     const SceneShade *sh = &style->shade;
     s.mode = sh->origami_mode;
+    /* The scene holds linear colour; the paper's formula multiplies display
+    ** values (its (1, 1, 0.95) is one), so encode to sRGB first. */
     Color c = sh->origami_color;
-    if (c.r != 0 || c.g != 0 || c.b != 0) s.color[0] = c.r, s.color[1] = c.g, s.color[2] = c.b;
+    if (c.r != 0 || c.g != 0 || c.b != 0)
+      s.color[0] = display_value(c.r), s.color[1] = display_value(c.g), s.color[2] = display_value(c.b);
     if (sh->origami_weights[0] != 0 || sh->origami_weights[1] != 0 || sh->origami_weights[2] != 0)
       memcpy(s.w, sh->origami_weights, sizeof s.w);
     if (sh->origami_radius > 0) s.radius = sh->origami_radius;

@@ -74,7 +74,7 @@ typedef struct SceneShade {
   ShadeToon toon;             /* also holds specular/shininess/ambient for phong etc. */
   /* shade origami */
   int origami_mode;           /* 0 line, 1 illustration, 2 shaded */
-  Color origami_color;        /* display values, default (1, 1, 0.95) */
+  Color origami_color;        /* linear like every colour; default is Mitani's display (1, 1, 0.95) */
   double origami_weights[3];  /* wa, wb, wc: default 0.675, 0.225, 0.15 */
   double origami_radius;      /* shaded mode's disk, pixels */
   const char *origami_texture;
