@@ -93,6 +93,9 @@ int diag_file_count(void) { return D.nfiles; }
 
 static char *read_stream(FILE *f, size_t *len) {
   size_t cap = 1 << 16, n = 0;
+  struct stat st;   /* a regular file is read in one go, without regrowing */
+  if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (size_t)st.st_size < DIAG_MAX_SOURCE_BYTES)
+    cap = (size_t)st.st_size + 1;
   char *buf = xmalloc(cap + 1);
   for (;;) {
     size_t got = fread(buf + n, 1, cap - n, f);

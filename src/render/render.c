@@ -69,6 +69,36 @@ static int thread_count(const RenderOptions *o) {
   return n > 0 ? (int)n : 1;
 }
 
+/* ---- parallel tasks -------------------------------------------------------- */
+
+typedef struct TaskPool {
+  void (*fn)(void *ctx, int task);
+  void *ctx;
+  int ntasks;
+  atomic_int next;
+} TaskPool;
+
+static void *task_worker(void *arg) {
+  TaskPool *pool = arg;
+  for (int k; (k = atomic_fetch_add(&pool->next, 1)) < pool->ntasks;) pool->fn(pool->ctx, k);
+  return NULL;
+}
+
+/* Run fn(ctx, task) for every task 0..ntasks-1 on up to nthreads threads
+** (the caller is one of them). Tasks must write only their own results. */
+static void parallel_tasks(int ntasks, int nthreads, void (*fn)(void *ctx, int task), void *ctx) {
+  TaskPool pool = {fn, ctx, ntasks, 0};
+  atomic_init(&pool.next, 0);
+  if (nthreads > ntasks) nthreads = ntasks;
+  pthread_t tid[64];
+  if (nthreads > 64) nthreads = 64;
+  int started = 0;
+  for (; started < nthreads - 1; started++)
+    if (pthread_create(&tid[started], NULL, task_worker, &pool) != 0) break;   /* fewer is fine */
+  task_worker(&pool);
+  for (int i = 0; i < started; i++) pthread_join(tid[i], NULL);
+}
+
 /* ---- prepare: bounding box and camera -------------------------------------- */
 
 static void box_add(Vec3 *lo, Vec3 *hi, Vec3 p) {
@@ -224,45 +254,69 @@ static int can_cull_back(const RenderObject *o, const Camera *c) {
   return 1;
 }
 
-/* Tessellate (or subdivide) o's geometry for f's camera and move it to
-** world space; returns 0 after a diagnostic when subdivision fails. */
-static int tessellate_object(RenderFrame *f, RenderObject *o) {
+/* Tessellate o's patches or polygons for f's camera (thread-safe: one
+** object, no diagnostics). */
+static void tessellate_object(const RenderFrame *f, RenderObject *o) {
   const SceneObject *so = o->src;
   const SceneGeometry *g = so->geometry;
-  int ok = 1;
-  if (g && g->kind == GEOM_MESH && g->subdiv_level > 0) {   /* OpenSubdiv (subdiv.h) */
-    char err[256];
-    double t0 = stats_now();
-    o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
-    stats_record("subdiv", stats_now() - t0);
-    if (!o->mesh) {
-      diag_error(g->loc, "%s", err);
-      o->mesh = mesh_create(0, 0);
-      ok = 0;
-    }
-  } else {
-    Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
-    int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
-    o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
-                : mesh_create(0, 0);
+  Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
+  int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
+  o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
+              : mesh_create(0, 0);
+  object_to_world(o);
+}
+
+/* Subdivide o's mesh through OpenSubdiv (subdiv.h) and move it to world
+** space; returns 0 after a diagnostic when that fails. */
+static int subdivide_object(RenderObject *o) {
+  const SceneGeometry *g = o->src->geometry;
+  char err[256];
+  double t0 = stats_now();
+  o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
+  stats_record("subdiv", stats_now() - t0);
+  int ok = o->mesh != NULL;
+  if (!ok) {
+    diag_error(g->loc, "%s", err);
+    o->mesh = mesh_create(0, 0);
   }
   object_to_world(o);
-  f->ntriangles += o->mesh->ntris;
   return ok;
 }
 
-static int prepare_objects(const Scene *s, RenderFrame *f) {
-  int ok = 1;
+static int is_subdiv(const SceneGeometry *g) {
+  return g && g->kind == GEOM_MESH && g->subdiv_level > 0;
+}
+
+/* Objects tessellated in parallel, each on its own (the list of
+** indices into f->objects). */
+typedef struct TessJob {
+  const RenderFrame *f;
+  int *todo;
+} TessJob;
+
+static void tess_task(void *ctx, int k) {
+  TessJob *job = ctx;
+  tessellate_object(job->f, &job->f->objects[job->todo[k]]);
+}
+
+static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads) {
+  int ok = 1, ntodo = 0;
   f->nobjects = s->nobjects;
   f->objects = xcalloc((size_t)s->nobjects + 1, sizeof *f->objects);
+  int *todo = xmalloc((size_t)s->nobjects * sizeof *todo + 1);
   for (int i = 0; i < s->nobjects; i++) {
     const SceneObject *so = &s->objects[i];
     RenderObject *o = &f->objects[i];
     o->src = so;
     o->object_to_world = so->transform;
     o->style = &f->styles[so->style >= 0 && so->style < s->nstyles ? so->style : s->nstyles];
-    ok &= tessellate_object(f, o);
+    if (is_subdiv(so->geometry)) ok &= subdivide_object(o);   /* in order, on this thread */
+    else todo[ntodo++] = i;
   }
+  TessJob job = {f, todo};
+  parallel_tasks(ntodo, nthreads, tess_task, &job);
+  free(todo);
+  for (int i = 0; i < f->nobjects; i++) f->ntriangles += f->objects[i].mesh->ntris;
   return ok;
 }
 
@@ -279,6 +333,7 @@ static void retessellate_adaptive(RenderFrame *f) {
     free(o->wpos);
     free(o->wnrm);
     tessellate_object(f, o);
+    f->ntriangles += o->mesh->ntris;
   }
 }
 
@@ -334,7 +389,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   }
   prepare_styles(s, f);
   double t1 = stats_now();
-  int ok = prepare_objects(s, f);
+  int ok = prepare_objects(s, f, thread_count(o));
   double t2 = stats_now();
   double retess = 0;
   if (!s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE) {
@@ -383,36 +438,6 @@ typedef struct Bins {
 
 static inline const RastTri *bin_tri(const Bins *b, uint32_t item) {
   return &b->lists[item >> BIN_LOCAL_BITS].tris[item & ((1u << BIN_LOCAL_BITS) - 1)];
-}
-
-/* ---- parallel tasks -------------------------------------------------------- */
-
-typedef struct TaskPool {
-  void (*fn)(void *ctx, int task);
-  void *ctx;
-  int ntasks;
-  atomic_int next;
-} TaskPool;
-
-static void *task_worker(void *arg) {
-  TaskPool *pool = arg;
-  for (int k; (k = atomic_fetch_add(&pool->next, 1)) < pool->ntasks;) pool->fn(pool->ctx, k);
-  return NULL;
-}
-
-/* Run fn(ctx, task) for every task 0..ntasks-1 on up to nthreads threads
-** (the caller is one of them). Tasks must write only their own results. */
-static void parallel_tasks(int ntasks, int nthreads, void (*fn)(void *ctx, int task), void *ctx) {
-  TaskPool pool = {fn, ctx, ntasks, 0};
-  atomic_init(&pool.next, 0);
-  if (nthreads > ntasks) nthreads = ntasks;
-  pthread_t tid[64];
-  if (nthreads > 64) nthreads = 64;
-  int started = 0;
-  for (; started < nthreads - 1; started++)
-    if (pthread_create(&tid[started], NULL, task_worker, &pool) != 0) break;   /* fewer is fine */
-  task_worker(&pool);
-  for (int i = 0; i < started; i++) pthread_join(tid[i], NULL);
 }
 
 /* ---- triangle setup and binning ------------------------------------------- */
