@@ -17,10 +17,12 @@
 #include <unistd.h>
 
 #include "../base/mem.h"
+#include "../geom/origami.h"
 #include "../geom/subdiv.h"
 #include "../geom/tessellate.h"
 #include "../lang/diag.h"
-#include "lines.h"   /* issue 6: the line stage */
+#include "lines.h"
+#include "origami.h"
 #include "raster.h"
 #include "shade.h"
 #include "stats.h"
@@ -107,6 +109,16 @@ static void box_add(Vec3 *lo, Vec3 *hi, Vec3 p) {
   hi->x = fmax(hi->x, p.x); hi->y = fmax(hi->y, p.y); hi->z = fmax(hi->z, p.z);
 }
 
+/* The world box of an origami block's folded state (computed when the
+** block gives none); 0 when it does not build (render checked it first). */
+static int origami_box(const SceneOrigami *og, Vec3 *lo, Vec3 *hi) {
+  OrigamiModel *m = origami_build(og, 0);
+  if (!m) return 0;
+  origami_world_bounds(m, &og->transform, lo, hi);
+  origami_free(m);
+  return 1;
+}
+
 /* The world box of every object's control points (a Bezier patch lies in
 ** the hull of its control net, a subdivision surface in its cage) and
 ** every origami sheet. */
@@ -123,12 +135,10 @@ static void scene_box(const Scene *s, Vec3 *lo, Vec3 *hi) {
     for (int v = 0; v < g->nverts; v++) box_add(lo, hi, m4_point(o->transform, g->verts[v]));
   }
   for (int i = 0; i < s->norigami; i++) {
-    const SceneOrigami *og = &s->origami[i];
-    for (int v = 0; v < og->nverts; v++) {
-      Vec3 p = og->has_folded ? v3(og->folded[v].x, og->folded[v].y, 0)
-                              : v3(og->verts[v].x, og->verts[v].y, 0);
-      box_add(lo, hi, m4_point(og->transform, p));
-    }
+    Vec3 blo, bhi;
+    if (!origami_box(&s->origami[i], &blo, &bhi)) continue;
+    box_add(lo, hi, blo);
+    box_add(lo, hi, bhi);
   }
 }
 
@@ -190,13 +200,24 @@ static void object_to_world(RenderObject *o) {
     set3(o->wpos[i], m4_point(M, m->pos[i]));
     set3(o->wnrm[i], v3_norm(m4_dir(nt, m->nrm[i])));
   }
+  if (m->corner_nrm) {   /* hard edges: each corner shades with its own face's normal */
+    o->wcnrm = xmalloc((size_t)m->ntris * sizeof *o->wcnrm);
+    for (int t = 0; t < m->ntris; t++)
+      for (int k = 0; k < 3; k++) set3(o->wcnrm[t][k], v3_norm(m4_dir(nt, m->corner_nrm[t][k])));
+  }
   double det = v3_dot(v3(M.m[0][0], M.m[1][0], M.m[2][0]),
                       v3_cross(v3(M.m[0][1], M.m[1][1], M.m[2][1]), v3(M.m[0][2], M.m[1][2], M.m[2][2])));
-  if (det < 0) {
+  if (det < 0) {   /* a mirroring transform: keep the winding counter-clockwise */
     for (int t = 0; t < m->ntris; t++) {
       int k = m->tri[t][1];
       m->tri[t][1] = m->tri[t][2];
       m->tri[t][2] = k;
+      if (o->wcnrm) {
+        float c[3];
+        memcpy(c, o->wcnrm[t][1], sizeof c);
+        memcpy(o->wcnrm[t][1], o->wcnrm[t][2], sizeof c);
+        memcpy(o->wcnrm[t][2], c, sizeof c);
+      }
     }
     mesh_build_edges(m);
   }
@@ -272,7 +293,9 @@ static int subdivide_object(RenderObject *o) {
   const SceneGeometry *g = o->src->geometry;
   char err[256];
   double t0 = stats_now();
-  o->mesh = subdiv_mesh(g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER, err, sizeof err);
+  SumiOsdBoundary boundary;
+  subdiv_boundary_parse(g->subdiv_boundary, &boundary);   /* checked by the evaluator */
+  o->mesh = subdiv_mesh(g, boundary, err, sizeof err);
   stats_record("subdiv", stats_now() - t0);
   int ok = o->mesh != NULL;
   if (!ok) {
@@ -332,6 +355,8 @@ static void retessellate_adaptive(RenderFrame *f) {
     mesh_destroy(o->mesh);
     free(o->wpos);
     free(o->wnrm);
+    free(o->wcnrm);
+    o->wcnrm = NULL;
     tessellate_object(f, o);
     f->ntriangles += o->mesh->ntris;
   }
@@ -339,7 +364,7 @@ static void retessellate_adaptive(RenderFrame *f) {
 
 /* An automatic camera framed the objects' control boxes; frame the
 ** surfaces themselves now that they exist (tighter, and centred), with
-** any origami sheets as scene_box saw them. */
+** the boxes of any origami sheets. */
 static void refit_camera(const Scene *s, RenderFrame *f) {
   CameraFit fit;
   camera_fit_init(&fit, &f->camera);
@@ -348,13 +373,11 @@ static void refit_camera(const Scene *s, RenderFrame *f) {
     for (int v = 0; v < o->mesh->nverts; v++)
       camera_fit_add(&fit, &f->camera, v3(o->wpos[v][0], o->wpos[v][1], o->wpos[v][2]));
   }
-  for (int i = 0; i < s->norigami; i++) {
-    const SceneOrigami *og = &s->origami[i];
-    for (int v = 0; v < og->nverts; v++) {
-      Vec3 p = og->has_folded ? v3(og->folded[v].x, og->folded[v].y, 0)
-                              : v3(og->verts[v].x, og->verts[v].y, 0);
-      camera_fit_add(&fit, &f->camera, m4_point(og->transform, p));
-    }
+  for (int i = 0; i < s->norigami; i++) {   /* a flat sheet: its box corners */
+    Vec3 lo, hi;
+    if (!origami_box(&s->origami[i], &lo, &hi)) continue;
+    for (int c = 0; c < 8; c++)
+      camera_fit_add(&fit, &f->camera, v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z));
   }
   camera_fit_apply(&f->camera, &fit);
 }
@@ -412,6 +435,7 @@ void render_frame_free(RenderFrame *f) {
     if (o->mesh) mesh_destroy(o->mesh);
     free(o->wpos);
     free(o->wnrm);
+    free(o->wcnrm);
     free(o->backfacing);
     free(o->vcolor);
   }
@@ -619,6 +643,7 @@ static void shade_sample(const TileJob *job, int obj, int face, const float bary
   const int *t = o->mesh->tri[face];
   const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
   const float *n0 = o->wnrm[t[0]], *n1 = o->wnrm[t[1]], *n2 = o->wnrm[t[2]];
+  if (o->wcnrm) n0 = o->wcnrm[face][0], n1 = o->wcnrm[face][1], n2 = o->wcnrm[face][2];
   float b1 = bary[0], b2 = bary[1], b0 = 1 - b1 - b2;
   ShadeSample s;
   s.frame = job->f;
@@ -808,6 +833,52 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   bins_free(&bins);
 }
 
+/* ---- origami sheets (Mitani's method, render/origami.h) ------------------------ */
+
+/* Draw every origami block at sample resolution, depth-tested against the
+** meshes in g, box-filter it to output pixels and composite it over out.
+** Origami pixels get object id f->nobjects and their face ids in g (the
+** FOLD file's faces_vertices indices for an imported file). Returns 0 after
+** a diagnostic. */
+static int composite_origami(const Scene *s, const RenderFrame *f, Image *out, GBuffer *g) {
+  int N = f->samples, gw = f->width * N, gh = f->height * N;
+  size_t n = (size_t)gw * gh;
+  OrigamiTarget t;
+  memset(&t, 0, sizeof t);
+  t.width = gw;
+  t.height = gh;
+  t.rgba = xcalloc(n * 4, sizeof *t.rgba);
+  t.face_id = xmalloc(n * sizeof *t.face_id);
+  for (size_t i = 0; i < n; i++) t.face_id[i] = GBUF_NO_ID;
+  t.depth = g->depth;
+  t.pixel_scale = N;
+  Camera cam = camera_scaled(&f->camera, gw, gh);
+  int ok = origami_draw_scene(s, &cam.world_to_clip, &t);
+  for (size_t i = 0; i < n; i++)
+    if (t.face_id[i] != GBUF_NO_ID) { g->object[i] = f->nobjects; g->face[i] = t.face_id[i]; }
+  int ch = out->channels;
+  float inv = 1.0f / (float)(N * N);
+  for (int y = 0; y < f->height; y++)
+    for (int x = 0; x < f->width; x++) {
+      float p[3] = {0, 0, 0}, a = 0;   /* premultiplied average over the N x N samples */
+      for (int sy = 0; sy < N; sy++)
+        for (int sx = 0; sx < N; sx++) {
+          const float *q = t.rgba + ((size_t)(y * N + sy) * gw + (size_t)(x * N + sx)) * 4;
+          p[0] += q[0] * q[3]; p[1] += q[1] * q[3]; p[2] += q[2] * q[3];
+          a += q[3];
+        }
+      a *= inv;
+      if (a <= 0) continue;
+      float *o = out->data + ((size_t)y * f->width + x) * ch;
+      float under = ch == 4 ? o[3] : 1, alpha = a + under * (1 - a);
+      for (int k = 0; k < 3; k++) o[k] = (p[k] * inv + o[k] * under * (1 - a)) / alpha;
+      if (ch == 4) o[3] = alpha;
+    }
+  free(t.rgba);
+  free(t.face_id);
+  return ok;
+}
+
 /* ---- entry points ------------------------------------------------------------ */
 
 int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out) {
@@ -821,9 +892,19 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   /* RGB over an opaque background (smaller, and PNG encodes it faster) */
   *out = image_create(f.width, f.height, f.background.a >= 1 ? 3 : 4);
   gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * (*out)->channels * sizeof(float));
-  render_frame(&f, o, *out, gbuf_out);
-  /* lines (issue 6, src/render/lines.h): strokes composited over the shaded image */
-  if (!line_render_frame(&f, thread_count(o), *out, NULL, NULL)) {
+  /* origami composes with meshes through the sample depths, so it needs the G-buffer */
+  GBuffer *gbuf = NULL;
+  render_frame(&f, o, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);
+  if (gbuf_out) *gbuf_out = gbuf;
+  int ok = 1;
+  if (s->norigami > 0) {
+    double t0 = stats_now();
+    ok = composite_origami(s, &f, *out, gbuf);
+    stats_record("origami", stats_now() - t0);
+  }
+  if (!gbuf_out) gbuf_destroy(gbuf);
+  /* lines (src/render/lines.h): strokes composited over the shaded image */
+  if (!ok || !line_render_frame(&f, thread_count(o), *out, NULL, NULL)) {
     if (gbuf_out && *gbuf_out) { gbuf_destroy(*gbuf_out); *gbuf_out = NULL; }
     image_destroy(*out);
     *out = NULL;
@@ -840,7 +921,7 @@ void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f) {
   size_t n = (size_t)g->width * g->height;
   for (size_t i = 0; i < n; i++) {
     int obj = g->object[i];
-    if (obj < 0) {
+    if (obj < 0 || obj >= f->nobjects) {   /* background, or an origami sheet */
       memset(g->normal[i], 0, sizeof g->normal[i]);
       memset(g->uv[i], 0, sizeof g->uv[i]);
       memset(g->position[i], 0, sizeof g->position[i]);
@@ -852,7 +933,9 @@ void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f) {
     float nl = 0;
     for (int k = 0; k < 3; k++) {
       g->position[i][k] = b0 * o->wpos[t[0]][k] + b1 * o->wpos[t[1]][k] + b2 * o->wpos[t[2]][k];
-      g->normal[i][k] = b0 * o->wnrm[t[0]][k] + b1 * o->wnrm[t[1]][k] + b2 * o->wnrm[t[2]][k];
+      g->normal[i][k] = o->wcnrm ? b0 * o->wcnrm[g->face[i]][0][k] + b1 * o->wcnrm[g->face[i]][1][k] +
+                                       b2 * o->wcnrm[g->face[i]][2][k]
+                                 : b0 * o->wnrm[t[0]][k] + b1 * o->wnrm[t[1]][k] + b2 * o->wnrm[t[2]][k];
       nl += g->normal[i][k] * g->normal[i][k];
     }
     nl = nl > 0 ? 1 / sqrtf(nl) : 0;

@@ -88,6 +88,8 @@ typedef struct RenderObject {
   Mat4 object_to_world;
   float (*wpos)[3];            /* mesh->nverts world positions */
   float (*wnrm)[3];            /* mesh->nverts world unit normals */
+  float (*wcnrm)[3][3];        /* per triangle corner world normals where the mesh has
+                                  hard edges (Mesh.corner_nrm), else NULL */
   unsigned char *backfacing;   /* per triangle: its front faces away from the camera */
   int cull_back;               /* closed, outward and seen from outside: back faces
                                   are hidden, the rasterizer skips them */
