@@ -35,7 +35,7 @@ typedef struct Options {
   const char *output;
   int ast, scene, compare, stats, quiet;
   int width, height, threads;
-  const char *frames, *aov, *tile;
+  const char *frames, *aov;
   const char **defines; int ndefines;
   const char **include_dirs; int ninclude_dirs;
   long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
@@ -63,8 +63,8 @@ static void usage(FILE *out) {
     "  -W N, -H N           image width / height (one alone keeps the aspect ratio)\n"
     "  -D name=value        override a top-level let (value is an expression)\n"
     "  -I DIR               add an include folder\n"
-    "  --frames A:B         render frames A..B (clock runs 0..1)\n"
-    "  --tile I/N           render tile I of N\n"
+    "  --frames A:B         render frames A..B; clock runs 0..1 over them, frame is the\n"
+    "                       number; OUT's #### (or a 4-digit suffix) takes the frame\n"
     "  --threads N          worker threads (output is identical at any count)\n"
     "  --stats              print per-stage times and peak memory\n"
     "  --aov LIST           also write depth,normal,object,face passes\n"
@@ -124,7 +124,6 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "-D")) { NEED_VALUE(); o->defines = push_str(o->defines, &o->ndefines, v); }
     else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
     else if (!strcmp(a, "--frames")) { NEED_VALUE(); o->frames = v; }
-    else if (!strcmp(a, "--tile")) { NEED_VALUE(); o->tile = v; }
     else if (!strcmp(a, "--aov")) { NEED_VALUE(); o->aov = v; }
     else if (!strcmp(a, "--diagnostics")) {
       NEED_VALUE();
@@ -290,9 +289,66 @@ static int cmd_refine(const Options *o) {
   return status;
 }
 
-/* sumi render FILE -o OUT: evaluate, render, write the image (and the
-** --aov passes beside it). */
-static int cmd_render(const Options *o) {
+/* Parse "A:B" (or "A") into a frame range; exits with usage on anything else. */
+static void frame_range(const char *spec, int *first, int *last) {
+  char *end;
+  long a = strtol(spec, &end, 10), b = a;
+  if (*end == ':') b = strtol(end + 1, &end, 10);
+  if (*end || end == spec || a < 0 || b < a || b - a > 1000000)
+    bad_usage("--frames takes A:B with 0 <= A <= B (e.g. 0:119), not `%s`", spec);
+  *first = (int)a;
+  *last = (int)b;
+}
+
+/* The output name of a frame: a run of '#' in the name becomes the frame
+** number padded to its length (as Blender does), else "_NNNN" goes before
+** the extension. */
+static void frame_path(char *buf, size_t n, const char *output, int frame) {
+  const char *hash = strchr(output, '#');
+  if (hash) {
+    size_t run = strspn(hash, "#");
+    snprintf(buf, n, "%.*s%0*d%s", (int)(hash - output), output, (int)run, frame, hash + run);
+    return;
+  }
+  const char *dot = strrchr(output, '.');
+  const char *slash = strrchr(output, '/');
+  if (!dot || (slash && dot < slash)) dot = output + strlen(output);
+  snprintf(buf, n, "%.*s_%04d%s", (int)(dot - output), output, frame, dot);
+}
+
+/* Render the evaluated scene to path (an image, or the strokes as SVG),
+** with the --aov passes beside it. Returns the exit status. */
+static int render_to(const Options *o, const Scene *scene, const char *path) {
+  RenderOptions ro;
+  memset(&ro, 0, sizeof ro);
+  render_resolve_size(scene, o->width, o->height, &ro.width, &ro.height);
+  ro.threads = o->threads;
+  ro.stats = o->stats;
+  const char *ext = strrchr(path, '.');
+  if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
+  Image *img = NULL;
+  GBuffer *gb = NULL;
+  int status = 1;
+  if (render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
+    char err[512];
+    double t0 = now_seconds();
+    status = image_write(path, img, err, sizeof err) ? 0 : 1;
+    if (status) fprintf(stderr, "sumi: %s\n", err);
+    double load = image_bridge_load_seconds();   /* dlopen of OpenImageIO, on first use */
+    stats_record("image library", load);
+    stats_record("write", now_seconds() - t0 - load);
+    if (!status && gb && !render_write_aovs(gb, path, o->aov, err, sizeof err)) {
+      fprintf(stderr, "sumi: %s\n", err);
+      status = 1;
+    }
+  }
+  image_destroy(img);
+  gbuf_destroy(gb);
+  return status;
+}
+
+/* Parse, evaluate (with clock and frame) and render one frame to path. */
+static int render_frame_to(const Options *o, double clock, int frame, const char *path) {
   Arena arena;
   arena_init(&arena);
   int file, status = 1;
@@ -302,40 +358,36 @@ static int cmd_render(const Options *o) {
   scene_init(&scene);
   EvalOptions eo;
   eval_options_from(o, &eo);
+  eo.clock = clock;
+  eo.frame = frame;
   double t1 = now_seconds();
-  if (prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0) {
+  if (prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0 &&
+      origami_check_scene(&scene) == 0) {
     stats_record("parse", t1 - t0);
     stats_record("eval", now_seconds() - t1);
-    RenderOptions ro;
-    memset(&ro, 0, sizeof ro);
-    render_resolve_size(&scene, o->width, o->height, &ro.width, &ro.height);
-    ro.threads = o->threads;
-    ro.stats = o->stats;
-    Image *img = NULL;
-    GBuffer *gb = NULL;
-    const char *ext = strrchr(o->output, '.');
-    if (ext && !strcmp(ext, ".svg")) {   /* line art: the line stage writes it (render/svg.h) */
-      status = svg_render_scene(&scene, &ro, o->output);
-    } else if (render_scene(&scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
-      char err[512];
-      double t2 = now_seconds();
-      status = image_write(o->output, img, err, sizeof err) ? 0 : 1;
-      if (status) fprintf(stderr, "sumi: %s\n", err);
-      double load = image_bridge_load_seconds();   /* dlopen of OpenImageIO, on first use */
-      stats_record("image library", load);
-      stats_record("write", now_seconds() - t2 - load);
-      if (!status && gb && !render_write_aovs(gb, o->output, o->aov, err, sizeof err)) {
-        fprintf(stderr, "sumi: %s\n", err);
-        status = 1;
-      }
-    }
-    image_destroy(img);
-    gbuf_destroy(gb);
+    status = render_to(o, &scene, path);
   }
   if (o->stats) stats_print(stderr);
   scene_free(&scene);
   arena_free(&arena);
   return status;
+}
+
+/* sumi render FILE -o OUT [--frames A:B]: one image, or one a frame. */
+static int cmd_render(const Options *o) {
+  if (!o->frames) return render_frame_to(o, 0, 0, o->output);
+  if (!strcmp(o->input, "-")) bad_usage("--frames reads the scene once a frame: give a file, not -");
+  int first, last;
+  frame_range(o->frames, &first, &last);
+  for (int fr = first; fr <= last; fr++) {
+    char path[4096];
+    frame_path(path, sizeof path, o->output, fr);
+    double clock = last > first ? (double)(fr - first) / (last - first) : 0;
+    if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
+    int status = render_frame_to(o, clock, fr, path);
+    if (status) return status;
+  }
+  return 0;
 }
 
 typedef struct Command {
