@@ -82,7 +82,7 @@ deps:
 	else echo "all packages present"; fi
 
 PEER_PACKAGES ?=
-bench bench-parse bench-eval: PEER_PACKAGES := povray openscad hyperfine
+bench bench-parse bench-eval: PEER_PACKAGES := povray openscad hyperfine python3 time
 
 # The README's first command: install, build, and render the default example.
 example: deps all
@@ -108,16 +108,17 @@ fuzz:
 	build/fuzz/fuzz_parse -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 \
 	  -rss_limit_mb=4096 build/fuzz/corpus
 
-bench-parse: all
+bench-parse: deps all
 	sh bench/parse.sh $(BUILD)/sumi
 
-bench-eval: all
+bench-eval: deps all
 	sh bench/eval.sh $(BUILD)/sumi
 
-bench: all
+bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
 
 gallery: all
+	@mkdir -p docs/gallery
 	@for f in examples/*.npr; do \
 	  echo "render $$f"; $(BUILD)/sumi render $$f -o docs/gallery/$$(basename $$f .npr).png || exit 1; \
 	done

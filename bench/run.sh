@@ -89,5 +89,11 @@ PY
   done
 done
 
-[ -f bench/subdiv.sh ] && sh bench/subdiv.sh "$SUMI"
+# The other stages' workloads: lines (issue 6), origami (issue 7), subdivision (issue 8).
+echo
+sh bench/lines.sh "$SUMI"
+echo
+sh bench/origami.sh "$(dirname "$SUMI")"
+echo
+sh bench/subdiv.sh "$SUMI"
 exit 0
