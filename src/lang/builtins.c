@@ -79,6 +79,8 @@ static int to_vec3(const Value *v, Vec3 *out) {
   return 1;
 }
 
+static int vec3_finite(Vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
+
 static int get_vec3(Eval *ev, Value *a, int i, const ENode *call, Vec3 *out) {
   *out = v3(0, 0, 0);
   if (to_vec3(&a[i], out)) return 0;
@@ -507,12 +509,17 @@ static int get_points(Eval *ev, Value *a, int i, const ENode *call, Vec3 **out, 
   if (get_list(ev, a, i, call, &l)) return -1;
   *out = arena_alloc(&ev->scene->arena, (size_t)(l->n ? l->n : 1) * sizeof **out);
   *n = l->n;
-  for (int k = 0; k < l->n; k++)
+  for (int k = 0; k < l->n; k++) {
     if (!to_vec3(&l->v[k], &(*out)[k])) {
       ev_error(ev, arg_loc(call, i), "`%s` expects points [x, y, z]; element %d is %s %s", bname(call), k,
                article(&l->v[k]), val_type_name(&l->v[k]));
       return -1;
     }
+    if (!vec3_finite((*out)[k])) {   /* a NaN or infinite point would draw a silently wrong image */
+      ev_error(ev, arg_loc(call, i), "`%s`: point %d is not finite (it has a nan or inf coordinate)", bname(call), k);
+      return -1;
+    }
+  }
   return 0;
 }
 
@@ -569,8 +576,13 @@ static Value bi_bilinear(Eval *ev, Value *a, int n, const ENode *call) {
   g->npatches = 1;
   g->patches = arena_alloc(&ev->scene->arena, sizeof *g->patches);
   g->patches[0].bilinear = 1;
-  for (int i = 0; i < 4; i++)
+  for (int i = 0; i < 4; i++) {
     if (get_vec3(ev, a, i, call, &g->patches[0].cp[i])) return val_err();
+    if (!vec3_finite(g->patches[0].cp[i])) {
+      ev_error(ev, arg_loc(call, i), "`bilinear`: corner %d is not finite (it has a nan or inf coordinate)", i);
+      return val_err();
+    }
+  }
   return val_ptr(V_GEOM, g);
 }
 

@@ -87,6 +87,13 @@ static int expect(Ctx *c, const Prop *p, int i, const char *want) {
   return -1;
 }
 
+/* A nan or inf reaching the scene would draw a silently wrong image. */
+static int not_finite(Ctx *c, const Prop *p, int i, const char *what) {
+  ev_error(c->ev, i < p->n ? p->vloc[i] : name_range(p), "`%s` in `%s` needs a finite %s (found nan or inf)",
+           p->name, c->what, what);
+  return -1;
+}
+
 static char *scene_str(Ctx *c, const char *s) {
   return arena_strndup(&c->ev->scene->arena, s, strlen(s));
 }
@@ -125,7 +132,12 @@ static int to_number(Ctx *c, const Prop *p, int i, const Row *r, double *out) {
 
 static int to_color(Ctx *c, const Prop *p, int i, Color *out) {
   const Value *v = &p->v[i];
-  if (v->kind == V_COLOR) { *out = *v->u.c; return 0; }
+  if (v->kind == V_COLOR) {
+    *out = *v->u.c;
+    if (!isfinite(out->r) || !isfinite(out->g) || !isfinite(out->b) || !isfinite(out->a))
+      return not_finite(c, p, i, "colour");
+    return 0;
+  }
   if (v->kind == V_LIST && (v->u.l->n == 3 || v->u.l->n == 4)) {   /* linear [r, g, b(, a)] */
     float ch[4] = {0, 0, 0, 1};
     for (int k = 0; k < v->u.l->n; k++) {
@@ -133,6 +145,8 @@ static int to_color(Ctx *c, const Prop *p, int i, Color *out) {
       ch[k] = (float)v->u.l->v[k].u.n;
     }
     *out = (Color){ch[0], ch[1], ch[2], ch[3]};
+    if (!isfinite(out->r) || !isfinite(out->g) || !isfinite(out->b) || !isfinite(out->a))
+      return not_finite(c, p, i, "colour");
     return 0;
   }
   return expect(c, p, i, "a colour (#rrggbb or [r, g, b])");
@@ -144,7 +158,11 @@ static int to_vec3(Ctx *c, const Prop *p, int i, Vec3 *out) {
     double x[3] = {0, 0, 0};
     int k;
     for (k = 0; k < v->u.l->n && v->u.l->v[k].kind == V_NUM; k++) x[k] = v->u.l->v[k].u.n;
-    if (k == v->u.l->n) { *out = v3(x[0], x[1], x[2]); return 0; }
+    if (k == v->u.l->n) {
+      *out = v3(x[0], x[1], x[2]);
+      if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) return not_finite(c, p, i, "point");
+      return 0;
+    }
   }
   return expect(c, p, i, "a point [x, y, z]");
 }
@@ -243,6 +261,8 @@ static int convert(Ctx *c, const Prop *p, const Row *r, void *target) {
   case T_TRANSFORM:
     if (v->kind != V_XFORM) return expect(c, p, 0, "a transform (translate, rotate, scale, matrix)");
     *(Mat4 *)f = *v->u.m;
+    for (int q = 0; q < 16; q++)
+      if (!isfinite(v->u.m->m[q / 4][q % 4])) return not_finite(c, p, 0, "transform");
     return 0;
   case T_GEOMETRY:
     if (v->kind != V_GEOM) return expect(c, p, 0, "a geometry (bezier, mesh, teapot(), ...)");
