@@ -8,7 +8,8 @@
 #                       -> x.svg  (when present) exact text of `sumi render x.npr -o x.svg`
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #
-# A first line "// args: ..." gives extra options; in render tests a line
+# A line "// args: ..." among the first three gives extra options (and in
+# tests/errors "// command: render" another subcommand); in render tests a line
 # "// tolerance: --max-diff N --max-frac F" overrides the default tolerance.
 # UPDATE=1 rewrites the text snapshots, UPDATE_GOLDEN=1 the golden images.
 
@@ -22,7 +23,11 @@ passed=0; failed=0; skipped=0
 pass() { passed=$((passed + 1)); }
 fail() { failed=$((failed + 1)); echo "FAIL $1"; }
 
-args_of() { sed -n '1s|^// args: *||p' "$1"; }
+# Options and (errors suite) the subcommand, from the first lines of a case:
+#   // command: render
+#   // args: -o never.png
+args_of() { head -3 "$1" | sed -n 's|^// args: *||p'; }
+command_of() { head -3 "$1" | sed -n 's|^// command: *||p' | grep . || echo "$2"; }
 
 # An existing suite folder with no cases is a broken suite.
 cases() {
@@ -41,7 +46,8 @@ check_text() {
     exp="$ROOT/tests/$suite/$name.$ext"
     got="$OUT/$suite.$name.$ext"
     # shellcheck disable=SC2046
-    (cd "$ROOT/tests/$suite" && "$@" "$name.npr" $(args_of "$f") >"$got.stdout" 2>"$got.stderr"
+    (cd "$ROOT/tests/$suite" && "$1" $(command_of "$f" "$2") "$name.npr" $(args_of "$f") $3 \
+       >"$got.stdout" 2>"$got.stderr"
      echo "exit: $?" >"$got"; cat "$got.stdout" "$got.stderr" >>"$got")
     if [ "$suite" = parse ]; then tail -n +2 "$got" >"$got.body"; mv "$got.body" "$got"; fi
     if [ -n "$UPDATE" ]; then cp "$got" "$exp"; fi
