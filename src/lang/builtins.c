@@ -67,23 +67,11 @@ static int get_list(Eval *ev, Value *a, int i, const ENode *call, List **out) {
   return type_error(ev, call, i, "a list", &a[i]);
 }
 
-/* A point: [x, y, z] or [x, y] (z = 0). */
-static int to_vec3(const Value *v, Vec3 *out) {
-  if (v->kind != V_LIST || v->u.l->n < 2 || v->u.l->n > 3) return 0;
-  double c[3] = {0, 0, 0};
-  for (int i = 0; i < v->u.l->n; i++) {
-    if (v->u.l->v[i].kind != V_NUM) return 0;
-    c[i] = v->u.l->v[i].u.n;
-  }
-  *out = v3(c[0], c[1], c[2]);
-  return 1;
-}
-
 static int vec3_finite(Vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
 
 static int get_vec3(Eval *ev, Value *a, int i, const ENode *call, Vec3 *out) {
   *out = v3(0, 0, 0);
-  if (to_vec3(&a[i], out)) return 0;
+  if (val_to_point(&a[i], out)) return 0;
   return type_error(ev, call, i, "a point [x, y, z]", &a[i]);
 }
 
@@ -458,7 +446,7 @@ static Value bi_rotate(Eval *ev, Value *a, int n, const ENode *call) {
 static Value bi_scale(Eval *ev, Value *a, int n, const ENode *call) {
   Vec3 s;
   if (a[0].kind == V_NUM) s = v3(a[0].u.n, a[0].u.n, a[0].u.n);
-  else if (!to_vec3(&a[0], &s) || a[0].u.l->n != 3) {
+  else if (!val_to_point(&a[0], &s) || a[0].u.l->n != 3) {
     type_error(ev, call, 0, "a number or [sx, sy, sz]", &a[0]);
     return val_err();
   }
@@ -510,7 +498,7 @@ static int get_points(Eval *ev, Value *a, int i, const ENode *call, Vec3 **out, 
   *out = arena_alloc(&ev->scene->arena, (size_t)(l->n ? l->n : 1) * sizeof **out);
   *n = l->n;
   for (int k = 0; k < l->n; k++) {
-    if (!to_vec3(&l->v[k], &(*out)[k])) {
+    if (!val_to_point(&l->v[k], &(*out)[k])) {
       ev_error(ev, arg_loc(call, i), "`%s` expects points [x, y, z]; element %d is %s %s", bname(call), k,
                article(&l->v[k]), val_type_name(&l->v[k]));
       return -1;

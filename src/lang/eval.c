@@ -348,21 +348,10 @@ bad:
   return val_err();
 }
 
-static int as_vec3(const Value *v, Vec3 *out) {
-  if (v->kind != V_LIST || v->u.l->n < 2 || v->u.l->n > 3) return 0;
-  double c[3] = {0, 0, 0};
-  for (int i = 0; i < v->u.l->n; i++) {
-    if (v->u.l->v[i].kind != V_NUM) return 0;
-    c[i] = v->u.l->v[i].u.n;
-  }
-  *out = v3(c[0], c[1], c[2]);
-  return 1;
-}
-
 static Value xform_op(Eval *ev, EOp op, Value a, Value b, const ENode *e) {
   Vec3 p;
   if (op == E_MUL && a.kind == V_XFORM && b.kind == V_XFORM) return ev_xform(ev, m4_mul(*a.u.m, *b.u.m));
-  if (op == E_MUL && a.kind == V_XFORM && as_vec3(&b, &p)) {
+  if (op == E_MUL && a.kind == V_XFORM && val_to_point(&b, &p)) {
     Vec3 q = m4_point(*a.u.m, p);
     List *l = ev_list(ev, 3);
     l->v[0] = val_num(q.x); l->v[1] = val_num(q.y); l->v[2] = val_num(q.z);

@@ -223,6 +223,17 @@ void val_print(FILE *out, const Value *v, int raw) {
   free(b.s);
 }
 
+int val_to_point(const Value *v, Vec3 *out) {
+  if (v->kind != V_LIST || v->u.l->n < 2 || v->u.l->n > 3) return 0;
+  double c[3] = {0, 0, 0};
+  for (int i = 0; i < v->u.l->n; i++) {
+    if (v->u.l->v[i].kind != V_NUM) return 0;
+    c[i] = v->u.l->v[i].u.n;
+  }
+  *out = v3(c[0], c[1], c[2]);
+  return 1;
+}
+
 double val_srgb_to_linear(double c) {
   return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
 }

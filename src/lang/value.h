@@ -83,6 +83,8 @@ void val_format_number(char *buf, size_t n, double x);
 
 /* sRGB <-> linear transfer for one component. */
 double val_srgb_to_linear(double c);
+/* A point: [x, y, z] or [x, y] (z = 0) of numbers; 0 when v is not one. */
+int val_to_point(const Value *v, Vec3 *out);
 double val_linear_to_srgb(double c);
 
 #endif
