@@ -39,6 +39,7 @@ typedef struct Options {
   const char **defines; int ndefines;
   const char **include_dirs; int ninclude_dirs;
   long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
+  DiagFormat diag_format;
 } Options;
 
 /* Limit options, in the order of Options.limits. */
@@ -57,6 +58,8 @@ static void usage(FILE *out) {
     "  eval FILE --scene    print the evaluated scene as text\n"
     "  faces FILE           list the faces of every origami block\n"
     "  refine FILE --compare  compare our tessellation with OpenSubdiv's limit surface\n"
+    "  watch FILE -o OUT    render, then render again whenever the scene or a file it\n"
+    "                       includes changes (Ctrl-C stops)\n"
     "\n"
     "options:\n"
     "  -o FILE              output file\n"
@@ -143,6 +146,7 @@ static void parse_options(int argc, char **argv, Options *o) {
 #undef NEED_VALUE
   }
   if (!o->command) { usage(stderr); exit(2); }
+  o->diag_format = fmt;
   diag_init(fmt);
 }
 
@@ -390,6 +394,52 @@ static int cmd_render(const Options *o) {
   return 0;
 }
 
+/* A loaded source as watch saw it: its name, modification time and size. */
+typedef struct Watched {
+  char *name;
+  struct timespec mtime;
+  off_t size;
+} Watched;
+
+static int watched_changed(const Watched *w) {
+  struct stat st;
+  if (stat(w->name, &st) != 0) return 0;   /* mid-save: wait for it to come back */
+  return st.st_mtim.tv_sec != w->mtime.tv_sec || st.st_mtim.tv_nsec != w->mtime.tv_nsec ||
+         st.st_size != w->size;
+}
+
+/* sumi watch FILE -o OUT: render, then poll the scene and every file it
+** included (every 200 ms) and render again when one changes. */
+static int cmd_watch(const Options *o) {
+  if (!strcmp(o->input, "-")) bad_usage("`sumi watch` needs a file to watch, not -");
+  for (;;) {
+    int status = render_frame_to(o, 0, 0, o->output);
+    if (!o->quiet)
+      fprintf(stderr, status ? "sumi: watch: not written (see above); waiting for a change\n"
+                             : "sumi: watch: wrote %s; waiting for a change\n", o->output);
+    int n = diag_file_count(), nw = 0;
+    Watched *w = xcalloc((size_t)n + 1, sizeof *w);
+    for (int i = 0; i < n; i++) {
+      struct stat st;
+      const char *name = diag_file(i)->name;
+      if (stat(name, &st) != 0) continue;
+      w[nw].name = xstrdup(name);
+      w[nw].mtime = st.st_mtim;
+      w[nw].size = st.st_size;
+      nw++;
+    }
+    diag_shutdown();   /* a fresh start for the next render's diagnostics */
+    diag_init(o->diag_format);
+    for (int changed = 0; !changed;) {
+      struct timespec pause = {0, 200 * 1000 * 1000};
+      nanosleep(&pause, NULL);
+      for (int i = 0; i < nw && !changed; i++) changed = watched_changed(&w[i]);
+    }
+    for (int i = 0; i < nw; i++) free(w[i].name);
+    free(w);
+  }
+}
+
 typedef struct Command {
   const char *name;
   int (*run)(const Options *o);
@@ -403,6 +453,7 @@ static const Command commands[] = {
   {"eval", cmd_eval, 0},
   {"refine", cmd_refine, 0},
   {"render", cmd_render, 1},
+  {"watch", cmd_watch, 1},
 };
 
 int main(int argc, char **argv) {
