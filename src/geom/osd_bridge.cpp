@@ -91,6 +91,19 @@ struct PointView {
 
 static_assert(sizeof(Point) == 3 * sizeof(double), "Point must be three packed doubles");
 
+// Points written straight into a malloc'd array of 3 * n doubles.
+struct PointOut {
+  double *data;
+  Point &operator[](int i) { return *reinterpret_cast<Point *>(data + 3 * i); }
+  Point const &operator[](int i) const { return *reinterpret_cast<Point const *>(data + 3 * i); }
+};
+
+double *alloc_points(size_t n) {
+  double *p = static_cast<double *>(std::malloc(n ? 3 * n * sizeof(double) : 1));
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+
 Sdc::SchemeType scheme_type(SumiOsdScheme s) {
   switch (s) {
     case SUMI_OSD_LOOP: return Sdc::SCHEME_LOOP;
@@ -251,24 +264,26 @@ std::vector<float> tagged_edges(SumiOsdMesh const &m, Far::TopologyRefiner const
   return tag;
 }
 
+// Limit positions (lim) and unit limit normals (nrm, zero where the
+// tangents give none) of the last level's points, each 3 * n doubles.
 void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
-                  SumiOsdScheme scheme, std::vector<Point> &lim, std::vector<Point> &nrm) {
+                  SumiOsdScheme scheme, double *lim, double *nrm) {
   size_t n = last.size();
-  lim.resize(n);
-  nrm.assign(n, Point(0, 0, 0));
+  std::memset(nrm, 0, 3 * n * sizeof(double));
   if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
-    lim = last;
+    if (n) std::memcpy(lim, last.data(), n * sizeof(Point));
     return;
   }
   std::vector<Point> t1(n), t2(n);
   Far::PrimvarRefinerReal<double> pr(r);
-  pr.Limit(last, lim, t1, t2);
+  PointOut out{lim};
+  pr.Limit(last, out, t1, t2);
   for (size_t i = 0; i < n; i++) {
     double const *a = t1[i].p, *b = t2[i].p;
     double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
     double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (len > 0 && std::isfinite(len))
-      for (int k = 0; k < 3; k++) nrm[i].p[k] = c[k] / len;
+      for (int k = 0; k < 3; k++) nrm[3 * i + k] = c[k] / len;
   }
 }
 
@@ -287,10 +302,15 @@ std::vector<Point> interpolate(Far::TopologyRefiner const &r, const double *pos,
 }
 
 double *copy_points(std::vector<Point> const &v) {
-  double *p = static_cast<double *>(std::malloc(v.empty() ? 1 : 3 * v.size() * sizeof(double)));
+  double *p = alloc_points(v.size());
+  if (!v.empty()) std::memcpy(p, v.data(), v.size() * sizeof(Point));
+  return p;
+}
+
+template <class T>
+T *alloc_array(size_t n) {
+  T *p = static_cast<T *>(std::malloc(n ? n * sizeof(T) : 1));
   if (!p) throw std::bad_alloc();
-  for (size_t i = 0; i < v.size(); i++)
-    for (int k = 0; k < 3; k++) p[3 * i + k] = v[i].p[k];
   return p;
 }
 
@@ -298,30 +318,42 @@ double *copy_points(std::vector<Point> const &v) {
 void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
   int level = r.GetMaxLevel();
   Far::TopologyLevel const &last = r.GetLevel(level);
-  std::vector<int> start(1, 0), index, edges, base;
-  index.reserve(4 * (size_t)last.GetNumFaces());
-  edges.reserve(4 * (size_t)last.GetNumFaces());
-  for (int f = 0; f < last.GetNumFaces(); f++) {
-    Far::ConstIndexArray fv = last.GetFaceVertices(f), fe = last.GetFaceEdges(f);
-    for (int k = 0; k < fv.size(); k++) index.push_back(fv[k]);
-    for (int k = 0; k < fe.size(); k++) edges.push_back(fe[k]);
-    start.push_back((int)index.size());
-    int b = f;  // walk up to the base face
-    for (int l = level; l >= 1; l--) b = r.GetLevel(l).GetFaceParentFace(b);
-    base.push_back(b);
+  int nfaces = last.GetNumFaces();
+  // the base face of every face, level by level (as walking up each face's parents)
+  std::vector<int> base(r.GetLevel(0).GetNumFaces()), up;
+  for (size_t f = 0; f < base.size(); f++) base[f] = (int)f;
+  for (int l = 1; l <= level; l++) {
+    Far::TopologyLevel const &tl = r.GetLevel(l);
+    up.resize(tl.GetNumFaces());
+    for (int f = 0; f < tl.GetNumFaces(); f++) up[f] = base[tl.GetFaceParentFace(f)];
+    base.swap(up);
   }
-  out->nfaces = last.GetNumFaces();
-  out->face_start = copy_out(start);
-  out->face_index = copy_out(index);
-  out->face_edges = copy_out(edges);
+  size_t nidx = 0;
+  for (int f = 0; f < nfaces; f++) nidx += last.GetFaceVertices(f).size();
+  int *start = out->face_start = alloc_array<int>((size_t)nfaces + 1);
+  int *index = out->face_index = alloc_array<int>(nidx);
+  int *edges = out->face_edges = alloc_array<int>(nidx);
   out->face_base = copy_out(base);
+  out->nfaces = nfaces;
+  size_t k = 0;
+  start[0] = 0;
+  for (int f = 0; f < nfaces; f++) {
+    Far::ConstIndexArray fv = last.GetFaceVertices(f), fe = last.GetFaceEdges(f);
+    for (int i = 0; i < fv.size(); i++) {
+      index[k + i] = fv[i];
+      edges[k + i] = fe[i];
+    }
+    k += fv.size();
+    start[f + 1] = (int)k;
+  }
 }
 
 // Edges of the last level with their crease tags, and vertex sharpness.
 void collect_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r, SumiOsdRefined *out) {
   Far::TopologyLevel const &last = r.GetLevel(r.GetMaxLevel());
-  std::vector<float> tag = tagged_edges(m, r), sharp, sharp_now, vsharp;
-  std::vector<int> everts(2 * (size_t)last.GetNumEdges()), sharp_verts;
+  std::vector<float> tag = tagged_edges(m, r), sharp, sharp_now;
+  std::vector<int> sharp_verts;
+  int *everts = out->edge_verts = alloc_array<int>(2 * (size_t)last.GetNumEdges());
   for (int e = 0; e < last.GetNumEdges(); e++) {
     Far::ConstIndexArray ev = last.GetEdgeVertices(e);
     everts[2 * e] = ev[0];
@@ -332,15 +364,14 @@ void collect_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r, SumiOsdR
     sharp.push_back(tag[e]);
     sharp_now.push_back(last.GetEdgeSharpness(e));
   }
-  for (int v = 0; v < last.GetNumVertices(); v++) vsharp.push_back(last.GetVertexSharpness(v));
+  float *vsharp = out->vert_sharpness = alloc_array<float>((size_t)last.GetNumVertices());
+  for (int v = 0; v < last.GetNumVertices(); v++) vsharp[v] = last.GetVertexSharpness(v);
   out->nedges = last.GetNumEdges();
-  out->edge_verts = copy_out(everts);
   out->edge_tag = copy_out(tag);
   out->nsharp = (int)sharp.size();
   out->sharp_verts = copy_out(sharp_verts);
   out->sharp = copy_out(sharp);
   out->sharp_now = copy_out(sharp_now);
-  out->vert_sharpness = copy_out(vsharp);
 }
 
 // Fills *out (zeroed by the caller, who frees it if this throws midway).
@@ -352,13 +383,13 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   Far::TopologyRefiner::UniformOptions uo(level);
   uo.fullTopologyInLastLevel = true;  // edges of the last level, for the crease tags
   r->RefineUniform(uo);
-  std::vector<Point> ctrl = interpolate(*r, pos, m->nverts), lim, nrm;
-  limit_points(*r, ctrl, m->scheme, lim, nrm);
+  std::vector<Point> ctrl = interpolate(*r, pos, m->nverts);
   out->level = level;
   out->nverts = (int)ctrl.size();
+  out->limit = alloc_points(ctrl.size());
+  out->normal = alloc_points(ctrl.size());
+  limit_points(*r, ctrl, m->scheme, out->limit, out->normal);
   out->ctrl = copy_points(ctrl);
-  out->limit = copy_points(lim);
-  out->normal = copy_points(nrm);
   collect_faces(*r, out);
   collect_edges(*m, *r, out);
   return 1;

@@ -40,7 +40,7 @@ static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, 
 typedef struct TileSat { int tw, th; const int *sat; } TileSat;
 
 /* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] have storage? */
-static int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
+static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
   if (tx0 < 0) tx0 = 0;
   if (ty0 < 0) ty0 = 0;
   if (tx1 >= m->tw) tx1 = m->tw - 1;
@@ -107,8 +107,38 @@ static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double
   }
 }
 
+/* A vertex in front of the near plane (z >= -w, w > 0) as clip_to_screen
+** puts it; in = 0 marks one the triangles around must clip. */
+typedef struct ScreenVert { float x, y, n; int in; } ScreenVert;
+
+/* Triangle t of object obj whose corners are all in front of the near
+** plane: what add_clipped does for it (the polygon is the triangle
+** itself), with the cheap rejections (off the image, no tile with
+** storage) before the slope arithmetic of push_tri. */
+static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, const ScreenVert *c,
+                      int obj, int tri, double factor, int w, int h, const TileSat *m) {
+  /* the corners are finite (ScreenVert.in), so plain comparisons give
+  ** what fmin and fmax give */
+  float ymin = a->y < b->y ? a->y : b->y, ymax = a->y < b->y ? b->y : a->y;
+  float xmin = a->x < b->x ? a->x : b->x, xmax = a->x < b->x ? b->x : a->x;
+  if (c->y < ymin) ymin = c->y;
+  if (c->y > ymax) ymax = c->y;
+  if (c->x < xmin) xmin = c->x;
+  if (c->x > xmax) xmax = c->x;
+  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (m && !sat_any(m, (int)(xmin > 0 ? xmin : 0) >> LINE_REF_TILE_BITS,
+                    (int)(ymin > 0 ? ymin : 0) >> LINE_REF_TILE_BITS,
+                    (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> LINE_REF_TILE_BITS,
+                    (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> LINE_REF_TILE_BITS))
+    return;
+  float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
+  push_tri(l, p, obj, tri, factor, w, h, NULL);   /* the tiles are checked */
+}
+
 /* Every triangle of every object that reaches a tile of sat, with the
-** offset its object's edges get from it. */
+** offset its object's edges get from it. Each vertex is projected once;
+** only triangles with a corner behind the near plane go through
+** add_clipped. */
 static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h,
                          const TileSat *sat) {
   for (int i = 0; i < edges->nobj; i++) {
@@ -117,10 +147,28 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     const SceneLines *ls = objs[i].lines;
     double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
     if (!(factor > 0)) factor = 0;
-    for (int t = 0; t < m->ntris; t++) {
-      const double *c[3] = {v[m->tri[t][0]].clip, v[m->tri[t][1]].clip, v[m->tri[t][2]].clip};
-      add_clipped(l, c, i, t, factor, w, h, sat);
+    size_t sbytes = ((size_t)m->nverts + 1) * sizeof(ScreenVert);
+    ScreenVert *sv = line_big_zalloc(sbytes);
+    for (int k = 0; k < m->nverts; k++) {
+      const double *c = v[k].clip;
+      if (c[2] + c[3] >= 0 && c[3] > 0) {
+        ScreenVert s = {0, 0, 0, 0};
+        clip_to_screen(c, w, h, &s.x, &s.y, &s.n);
+        s.in = isfinite(s.x) && isfinite(s.y) && isfinite(s.n);   /* else the general path */
+        sv[k] = s;
+      }
     }
+    for (int t = 0; t < m->ntris; t++) {
+      const int *tv = m->tri[t];
+      const ScreenVert *a = &sv[tv[0]], *b = &sv[tv[1]], *c = &sv[tv[2]];
+      if (a->in & b->in & c->in) {
+        add_front(l, a, b, c, i, t, factor, w, h, sat);
+      } else {
+        const double *cc[3] = {v[tv[0]].clip, v[tv[1]].clip, v[tv[2]].clip};
+        add_clipped(l, cc, i, t, factor, w, h, sat);
+      }
+    }
+    line_big_free(sv, sbytes);
   }
 }
 

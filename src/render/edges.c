@@ -16,18 +16,19 @@
 
 /* ---- classification ---------------------------------------------------- */
 
-/* Kinds of edge e with the crease test as n0 . n1 <= crease_cos. */
-static unsigned edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
-                          const SceneLines *ls, double crease_cos, const Camera *cam) {
-  const MeshEdge *me = &m->edges[e];
-  unsigned want = ls->kinds, kind = 0;
+/* Kinds of edge me with the crease test as n0 . n1 <= crease_cos; the
+** view vector is forward (ortho) or from eye to the edge's v[0]. */
+static inline unsigned edge_kind_at(const MeshEdge *me, const int *tri_face, const Vec3 *world,
+                                    const Vec3 *fn, unsigned want, double crease_cos, int ortho,
+                                    Vec3 forward, Vec3 eye) {
+  unsigned kind = 0;
   int f0 = me->f[0], f1 = me->f[1];
   if (f0 < 0 || f1 < 0) {                          /* fewer than two faces */
     if (want & EDGE_BOUNDARY) kind |= EDGE_BOUNDARY;
     if (want & EDGE_FACE) kind |= EDGE_FACE;       /* a mesh border is a polygon edge too */
     return kind;
   }
-  if ((want & EDGE_FACE) && (!m->tri_face || m->tri_face[f0] != m->tri_face[f1]))
+  if ((want & EDGE_FACE) && (!tri_face || tri_face[f0] != tri_face[f1]))
     kind |= EDGE_FACE;
   Vec3 n0 = fn[f0], n1 = fn[f1];
   int degenerate = v3_dot(n0, n0) == 0 || v3_dot(n1, n1) == 0;
@@ -41,10 +42,16 @@ static unsigned edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *f
     /* view vector from the camera to an end point; the product of the two
     ** dot products is <= 0 when one face looks at the viewer and the other
     ** away (or either is edge-on) */
-    Vec3 v = cam->kind == CAMERA_ORTHO ? cam->forward : v3_sub(world[me->v[0]], cam->eye);
+    Vec3 v = ortho ? forward : v3_sub(world[me->v[0]], eye);
     if (v3_dot(v, n0) * v3_dot(v, n1) <= 0) kind |= EDGE_SILHOUETTE;
   }
   return kind;
+}
+
+static unsigned edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
+                          const SceneLines *ls, double crease_cos, const Camera *cam) {
+  return edge_kind_at(&m->edges[e], m->tri_face, world, fn, ls->kinds, crease_cos,
+                      cam->kind == CAMERA_ORTHO, cam->forward, cam->eye);
 }
 
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
@@ -54,39 +61,42 @@ unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
 
 /* ---- per object --------------------------------------------------------- */
 
-/* The vertex -> edge graph of m as offsets (nverts + 1) and edge lists. */
-static void build_adjacency(LineObjEdges *oe, const Mesh *m) {
+/* The vertex -> edge graph of m's important edges (oe->id[e] != 0) as
+** offsets (nverts + 1) and edge lists, each vertex's edges in edge order.
+** Linking only ever walks important edges, so the rest are left out. */
+static void build_adjacency(LineObjEdges *oe, const Mesh *m, const int *imp, int nimp) {
   oe->adj_start = xcalloc((size_t)m->nverts + 1, sizeof *oe->adj_start);
-  oe->adj = xmalloc(((size_t)m->nedges * 2 + 1) * sizeof *oe->adj);
-  for (int e = 0; e < m->nedges; e++) {
-    oe->adj_start[m->edges[e].v[0] + 1]++;
-    oe->adj_start[m->edges[e].v[1] + 1]++;
+  oe->adj = xmalloc(((size_t)nimp * 2 + 1) * sizeof *oe->adj);
+  for (int i = 0; i < nimp; i++) {
+    oe->adj_start[m->edges[imp[i]].v[0] + 1]++;
+    oe->adj_start[m->edges[imp[i]].v[1] + 1]++;
   }
   for (int v = 0; v < m->nverts; v++) oe->adj_start[v + 1] += oe->adj_start[v];
-  int *fill = xmalloc(((size_t)m->nverts + 1) * sizeof *fill);
-  memcpy(fill, oe->adj_start, (size_t)m->nverts * sizeof *fill);
-  for (int e = 0; e < m->nedges; e++) {
-    oe->adj[fill[m->edges[e].v[0]]++] = e;
-    oe->adj[fill[m->edges[e].v[1]]++] = e;
+  for (int i = 0; i < nimp; i++) {   /* adj_start[v] counts up as v's edges go in */
+    oe->adj[oe->adj_start[m->edges[imp[i]].v[0]]++] = imp[i];
+    oe->adj[oe->adj_start[m->edges[imp[i]].v[1]]++] = imp[i];
   }
-  free(fill);
+  for (int v = m->nverts; v > 0; v--) oe->adj_start[v] = oe->adj_start[v - 1];   /* back to starts */
+  oe->adj_start[0] = 0;
 }
 
 /* World positions, clip coordinates and reference pixels of m's vertices. */
 static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
                              const Camera *cam) {
-  oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);
+  oe->vert_bytes = ((size_t)m->nverts + 1) * sizeof *oe->vert;
+  oe->vert = line_big_zalloc(oe->vert_bytes);
+  const double(*M)[4] = cam->world_to_clip.m;
+  double fw = 0.5 * cam->width, fh = 0.5 * cam->height;
   for (int v = 0; v < m->nverts; v++) {
     LineVert *lv = &oe->vert[v];
-    world[v] = m4_point(to_world, m->pos[v]);
+    Vec3 p = m4_point(to_world, m->pos[v]);
+    world[v] = p;
     for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
-      lv->clip[r] = cam->world_to_clip.m[r][0] * world[v].x + cam->world_to_clip.m[r][1] * world[v].y +
-                    cam->world_to_clip.m[r][2] * world[v].z + cam->world_to_clip.m[r][3];
+      lv->clip[r] = M[r][0] * p.x + M[r][1] * p.y + M[r][2] * p.z + M[r][3];
     double w = lv->clip[3];
-    lv->x = lv->y = 0;
     if (w > 0) {   /* pixel = ((ndc + 1) / 2 * width, (1 - ndc.y) / 2 * height) */
-      lv->x = (float)((lv->clip[0] / w + 1) * 0.5 * cam->width);
-      lv->y = (float)((1 - lv->clip[1] / w) * 0.5 * cam->height);
+      lv->x = (float)((lv->clip[0] / w + 1) * fw);
+      lv->y = (float)((1 - lv->clip[1] / w) * fh);
     }
   }
 }
@@ -105,12 +115,23 @@ static int outside_view(const LineObjEdges *oe, int nverts) {
   return nverts > 0 && all != 0;
 }
 
-/* Unit world normals of m's triangles (zero for a degenerate one). */
-static void face_normals(Vec3 *fn, const Mesh *m, const Vec3 *world) {
+/* How many edges ahead the classification loop prefetches what it
+** gathers. */
+#define EDGE_AHEAD 32
+
+/* Unit world normals of m's triangles (zero for a degenerate one), and
+** which of them the viewer sees the front of (v . n < 0), in one pass. */
+static void face_normals(Vec3 *fn, unsigned char *front, const Mesh *m, const Vec3 *world,
+                         const Camera *cam) {
+  int ortho = cam->kind == CAMERA_ORTHO;
+  Vec3 fwd = cam->forward, eye = cam->eye;
   for (int t = 0; t < m->ntris; t++) {
     const int *c = m->tri[t];
-    Vec3 n = v3_cross(v3_sub(world[c[1]], world[c[0]]), v3_sub(world[c[2]], world[c[0]]));
-    fn[t] = v3_norm(n);
+    Vec3 p0 = world[c[0]];
+    Vec3 n = v3_norm(v3_cross(v3_sub(world[c[1]], p0), v3_sub(world[c[2]], p0)));
+    fn[t] = n;
+    Vec3 v = ortho ? fwd : v3_sub(p0, eye);
+    front[t] = v3_dot(v, n) < 0;
   }
 }
 
@@ -139,39 +160,50 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     LineObjEdges *oe = &out->obj[i];
     oe->mesh = m;
     oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
-    Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
+    /* scratch: world positions, then face normals, in one mapping */
+    size_t world_bytes = ((size_t)m->nverts + 1) * sizeof(Vec3);
+    size_t scratch_bytes = world_bytes + ((size_t)m->ntris + 1) * sizeof(Vec3);
+    Vec3 *world = line_big_zalloc(scratch_bytes);
+    Vec3 *fn = world + m->nverts + 1;
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
     if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
       oe->lines = NULL;
-      free(world);
+      line_big_free(world, scratch_bytes);
       continue;
     }
-    Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
-    face_normals(fn, m, world);
-    for (int t = 0; t < m->ntris; t++) {   /* the viewer sees its front: v . n < 0 */
-      Vec3 v = cam->kind == CAMERA_ORTHO ? cam->forward : v3_sub(world[m->tri[t][0]], cam->eye);
-      oe->front[t] = v3_dot(v, fn[t]) < 0;
-    }
+    face_normals(fn, oe->front, m, world, cam);
     if (oe->lines) {
       double crease_cos = cos(oe->lines->crease_angle * M_PI / 180.0);
+      int first = out->n;
+      unsigned want = oe->lines->kinds;
+      int ortho = cam->kind == CAMERA_ORTHO;
+      const MeshEdge *me = m->edges;
       for (int e = 0; e < m->nedges; e++) {
-        unsigned kind = edge_kind(m, e, world, fn, oe->lines, crease_cos, cam);
+#ifdef __GNUC__
+        if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
+          const MeshEdge *ahead = &me[e + EDGE_AHEAD];
+          if (ahead->f[0] >= 0) __builtin_prefetch(&fn[ahead->f[0]]);
+          if (ahead->f[1] >= 0) __builtin_prefetch(&fn[ahead->f[1]]);
+          __builtin_prefetch(&world[ahead->v[0]]);
+        }
+#endif
+        unsigned kind = edge_kind_at(&m->edges[e], m->tri_face, world, fn, want, crease_cos, ortho,
+                                     cam->forward, cam->eye);
         if (!kind) continue;
         add_edge(out, &cap, i, e, kind);
         oe->id[e] = out->n;
       }
-      build_adjacency(oe, m);
+      build_adjacency(oe, m, out->edge_of + first, out->n - first);
     }
-    free(fn);
-    free(world);
+    line_big_free(world, scratch_bytes);
   }
 }
 
 void line_edges_free(LineEdges *e) {
   for (int i = 0; i < e->nobj; i++) {
-    free(e->obj[i].vert);
+    line_big_free(e->obj[i].vert, e->obj[i].vert_bytes);
     free(e->obj[i].id);
     free(e->obj[i].adj_start);
     free(e->obj[i].adj);

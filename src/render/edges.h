@@ -34,9 +34,11 @@ typedef struct LineObjEdges {
   const Mesh *mesh;
   const SceneLines *lines; /* NULL when the object draws no lines */
   LineVert *vert;          /* mesh->nverts projected vertices */
+  size_t vert_bytes;       /* vert's allocation (line_big_zalloc) */
   int *id;                 /* per mesh edge: global id (1-based), 0 = not important */
-  int *adj_start;          /* nverts + 1 offsets into adj: the vertex -> edge graph */
-  int *adj;                /* incident mesh edges of each vertex, in edge order */
+  int *adj_start;          /* nverts + 1 offsets into adj: the vertex -> edge graph
+                              of the important edges (the only ones linking walks) */
+  int *adj;                /* incident important mesh edges of each vertex, in edge order */
   unsigned char *front;    /* per triangle: its front faces the viewer */
 } LineObjEdges;
 
