@@ -4,6 +4,7 @@
 #include "mem.h"
 
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,11 +54,32 @@ void *xgrow(void *items, int *cap, int need, size_t elem) {
   return xrealloc(items, (size_t)c * elem);
 }
 
+void mem_advise_huge(void *p, size_t n) {
+#ifdef MADV_HUGEPAGE
+  const uintptr_t huge = (uintptr_t)2 << 20;
+  uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1), hi = ((uintptr_t)p + n) & ~(huge - 1);
+  if (hi > lo) madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)n;
+#endif
+}
+
+void *xcalloc_huge(size_t n) {
+  const size_t huge = (size_t)2 << 20;
+  if (n < huge) return xcalloc(1, n);
+  n = (n + huge - 1) & ~(huge - 1);   /* aligned_alloc wants a multiple */
+  void *p = aligned_alloc(huge, n);
+  if (!p) sumi_fatal("out of memory (asked for %zu bytes)", n);
+  mem_advise_huge(p, n);
+  return memset(p, 0, n);
+}
+
 /* ---- arena ---------------------------------------------------------- */
 
 struct ArenaChunk {
   ArenaChunk *next;
-  size_t size, used;
+  size_t size;   /* bytes of data */
   _Alignas(16) unsigned char data[];
 };
 
@@ -80,30 +102,35 @@ static ArenaChunk *chunk_map(size_t bytes) {
 
 void arena_init(Arena *a) {
   a->head = NULL;
+  a->next = a->limit = NULL;
   a->used_total = 0;
+}
+
+void *arena_alloc_new_chunk(Arena *a, size_t n) {
+  size_t size = a->head ? (a->head->size + sizeof(ArenaChunk)) * 2 : ARENA_CHUNK_MIN;
+  if (size > ARENA_CHUNK_MAX) size = ARENA_CHUNK_MAX;
+  if (size < n + sizeof(ArenaChunk)) size = n + sizeof(ArenaChunk);
+  ArenaChunk *c = chunk_map(size);
+  c->size = size - sizeof(ArenaChunk);
+  c->next = a->head;
+  a->head = c;
+  a->next = c->data + n;   /* data is 16-aligned */
+  a->limit = c->data + c->size;
+  a->used_total += n;
+  return c->data;
 }
 
 void *arena_alloc(Arena *a, size_t n) {
   n = (n + 15) & ~(size_t)15;
-  ArenaChunk *c = a->head;
-  if (!c || c->size - c->used < n) {
-    size_t size = c ? (c->size + sizeof(ArenaChunk)) * 2 : ARENA_CHUNK_MIN;
-    if (size > ARENA_CHUNK_MAX) size = ARENA_CHUNK_MAX;
-    if (size < n + sizeof(ArenaChunk)) size = n + sizeof(ArenaChunk);
-    c = chunk_map(size);
-    c->size = size - sizeof(ArenaChunk);
-    c->used = 0;
-    c->next = a->head;
-    a->head = c;
-  }
-  void *p = c->data + c->used;
-  c->used += n;
+  unsigned char *p = (unsigned char *)(((uintptr_t)a->next + 15) & ~(uintptr_t)15);
+  if (!a->next || p > a->limit || (size_t)(a->limit - p) < n) return arena_alloc_new_chunk(a, n);
+  a->next = p + n;
   a->used_total += n;
   return p;
 }
 
 char *arena_strndup(Arena *a, const char *s, size_t n) {
-  char *p = arena_alloc(a, n + 1);
+  char *p = arena_alloc_small(a, n + 1);
   memcpy(p, s, n);
   p[n] = '\0';
   return p;
@@ -117,5 +144,6 @@ void arena_free(Arena *a) {
     c = next;
   }
   a->head = NULL;
+  a->next = a->limit = NULL;
   a->used_total = 0;
 }

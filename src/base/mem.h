@@ -15,6 +15,15 @@ void *xcalloc(size_t count, size_t size);
 void *xrealloc(void *p, size_t n);
 char *xstrdup(const char *s);
 
+/* Ask for transparent huge pages on the whole 2 MB pages inside the block
+** [p, p + n): a big buffer then costs a few page faults instead of one per
+** 4 KB. A hint only; small blocks are left alone. */
+void mem_advise_huge(void *p, size_t n);
+
+/* n zeroed bytes for a big table, freed with free(). From 2 MB up the block
+** is aligned to 2 MB and asks for huge pages, as mem_advise_huge. */
+void *xcalloc_huge(size_t n);
+
 /* Grow *items (of elem bytes each) so it holds at least need; *cap tracks it. */
 void *xgrow(void *items, int *cap, int need, size_t elem);
 
@@ -22,12 +31,27 @@ void *xgrow(void *items, int *cap, int need, size_t elem);
 typedef struct ArenaChunk ArenaChunk;
 typedef struct Arena {
   ArenaChunk *head;
-  size_t used_total;   /* bytes handed out, for --stats */
+  unsigned char *next, *limit;   /* the free part of the head chunk */
+  size_t used_total;             /* bytes handed out, for --stats */
 } Arena;
 
 void arena_init(Arena *a);
 void *arena_alloc(Arena *a, size_t n);          /* zeroed, 16-byte aligned */
 char *arena_strndup(Arena *a, const char *s, size_t n);
 void arena_free(Arena *a);
+/* n bytes (a multiple of 8) at the start of a new chunk: the slow path. */
+void *arena_alloc_new_chunk(Arena *a, size_t n);
+
+/* Zeroed and only 8-byte aligned: for the many small objects of a syntax
+** tree (nodes, child arrays, names), where rounding each up to 16 bytes
+** would cost a fifth of the tree. Inline, as a parse makes millions. */
+static inline void *arena_alloc_small(Arena *a, size_t n) {
+  n = (n + 7) & ~(size_t)7;   /* next and the chunk's data stay 8-aligned */
+  if ((size_t)(a->limit - a->next) < n) return arena_alloc_new_chunk(a, n);
+  void *p = a->next;
+  a->next += n;
+  a->used_total += n;
+  return p;
+}
 
 #endif

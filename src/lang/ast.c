@@ -21,11 +21,31 @@ static const char *const ast_kind_names[] = {AST_LIST_KINDS(AST_NAME)};
 
 const char *ast_kind_name(AstKind k) { return k < AST_KIND_COUNT ? ast_kind_names[k] : "?"; }
 
+/* Bytes of a node of kind k: up to the last field the table in ast.h gives
+** that kind, so no node pays for fields it never uses (a number in a long
+** point list costs 32 bytes, a list 72). Readers must keep to the table. */
+static size_t node_size(AstKind k) {
+  switch (k) {
+    case AST_NUMBER: case AST_STRING: case AST_COLOR: case AST_BOOL: case AST_UNDEF:
+    case AST_IDENT: case AST_INCLUDE:
+      return offsetof(AstNode, a);
+    case AST_UNARY: case AST_ARG: case AST_MEMBER: case AST_BINDING: case AST_PARAM:
+    case AST_COMP_EACH: case AST_USE: case AST_LET:
+      return offsetof(AstNode, b);
+    case AST_BINARY: case AST_INDEX:
+      return offsetof(AstNode, c);
+    case AST_RANGE: case AST_TERNARY: case AST_COMP_IF:
+      return offsetof(AstNode, list);
+    case AST_PROGRAM: case AST_LIST: case AST_CALL: case AST_LET_EXPR: case AST_FN_EXPR:
+    case AST_COMP_FOR: case AST_COMP_LET: case AST_FN_DEF: case AST_PROPERTY:
+      return offsetof(AstNode, list2);
+    default:   /* AST_MODULE_DEF, AST_CALL_STMT, AST_FOR, AST_IF, AST_BLOCK */
+      return sizeof(AstNode);
+  }
+}
+
 AstNode *ast_new(Arena *arena, AstKind kind, SrcRange range) {
-  size_t size = ast_is_leaf(kind)     ? offsetof(AstNode, a)
-                : !ast_has_lists(kind) ? offsetof(AstNode, list)
-                                       : sizeof(AstNode);
-  AstNode *n = arena_alloc(arena, size);
+  AstNode *n = arena_alloc_small(arena, node_size(kind));
   n->kind = (unsigned char)kind;
   n->range = range;
   return n;
@@ -108,7 +128,8 @@ static void print_node(const AstNode *n, int depth, FILE *out) {
   fprintf(out, "%*s%s", depth * 2, "", ast_kind_name(n->kind));
   print_detail(n, out);
   fprintf(out, " @%d:%d-%d:%d\n", n->range.line, n->range.col, n->range.end_line, n->range.end_col);
-  if (ast_is_leaf(n->kind)) return;
+  size_t size = node_size(n->kind);   /* read no field past it */
+  if (size <= offsetof(AstNode, a)) return;
   if (n->kind == AST_RANGE) {   /* start, [step,] end in source order */
     print_node(n->a, depth + 1, out);
     if (n->b) print_node(n->b, depth + 1, out);
@@ -121,9 +142,9 @@ static void print_node(const AstNode *n, int depth, FILE *out) {
   if (list_first) print_list(&n->list, depth + 1, out);
   if (n->kind != AST_USE) { if (n->a) print_node(n->a, depth + 1, out); }
   else if (n->a) fprintf(out, "%*sas %s\n", (depth + 1) * 2, "", n->a->name);
-  if (n->b) print_node(n->b, depth + 1, out);
-  if (n->c) print_node(n->c, depth + 1, out);
-  if (!ast_has_lists(n->kind)) return;
+  if (size > offsetof(AstNode, b) && n->b) print_node(n->b, depth + 1, out);
+  if (size > offsetof(AstNode, c) && n->c) print_node(n->c, depth + 1, out);
+  if (size <= offsetof(AstNode, list)) return;
   switch (n->kind) {
     case AST_IF:
       print_section("then", &n->list, depth + 1, out);
@@ -141,7 +162,7 @@ static void print_node(const AstNode *n, int depth, FILE *out) {
       break;
     default:
       if (!list_first) print_list(&n->list, depth + 1, out);
-      print_list(&n->list2, depth + 1, out);
+      if (size > offsetof(AstNode, list2)) print_list(&n->list2, depth + 1, out);
   }
 }
 

@@ -78,12 +78,10 @@ typedef struct AstList {
   int count;
 } AstList;
 
-/* Nodes come in three sizes, so a number in a long point list costs about
-** 40 bytes (see make bench-parse). Read only the fields the table above
-** gives for a node's kind:
-**   leaves (AST_NUMBER … AST_IDENT): the header, up to the union;
-**   kinds without lists (ast_has_lists false): also a, b, c;
-**   the rest: everything. */
+/* Each node is allocated only up to the last field its kind uses (ast.c's
+** node_size), so a number costs 32 bytes and a list 72 (see make
+** bench-parse). Read only the fields the table above gives for a node's
+** kind: the others may lie past the node's end. */
 struct AstNode {
   unsigned char kind;           /* AstKind */
   unsigned char op;             /* TokenKind of an operator */

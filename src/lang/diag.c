@@ -97,6 +97,7 @@ static char *read_stream(FILE *f, size_t *len) {
   if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (size_t)st.st_size < DIAG_MAX_SOURCE_BYTES)
     cap = (size_t)st.st_size + 1;
   char *buf = xmalloc(cap + 1);
+  mem_advise_huge(buf, cap + 1);
   for (;;) {
     size_t got = fread(buf + n, 1, cap - n, f);
     n += got;

@@ -7,6 +7,7 @@
 */
 #include "lex.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -24,6 +25,95 @@ const char *token_name(TokenKind k) { return k < TK_COUNT ? token_names[k] : "?"
 /* Longest string literal after decoding, a named limit (style.md §14). */
 #define LEX_MAX_STRING (16 * 1024 * 1024)
 
+/* ---- interned names ---------------------------------------------------- */
+
+/* Every identifier is stored once per parse: an open-addressing hash table
+** (linear probing, at most 3/4 full) maps its bytes to the arena copy. The
+** keywords are entered first with their token kind, so one probe both
+** classifies a word and finds its copy. */
+typedef struct LexName {
+  const char *text;    /* NUL-terminated, in the arena */
+  uint32_t hash;
+  uint16_t len;        /* longer names are not interned */
+  uint16_t kind;       /* TK_IDENT or a keyword's kind */
+} LexName;
+
+/* Slots of recently seen names, picked by hash: the few names a script
+** repeats most (keywords, parameters, property words) stay in the first
+** level of the cache, where the big table would cost a miss each. */
+#define LEX_RECENT 256
+
+struct LexNames {
+  LexName *slots;
+  uint32_t mask;       /* capacity - 1; capacity is a power of two */
+  uint32_t count;
+  LexName recent[LEX_RECENT];   /* copies of table entries; text NULL when empty */
+};
+
+/* Longest identifier kept in the table; a longer one gets its own copy. */
+#define LEX_MAX_INTERNED 0xFFFF
+
+static uint32_t name_hash(const char *s, size_t len) {
+  uint32_t h = 2166136261u;   /* FNV-1a */
+  for (size_t i = 0; i < len; i++) h = (h ^ (unsigned char)s[i]) * 16777619u;
+  return h;
+}
+
+static void names_grow(LexNames *t) {
+  uint32_t cap = (t->mask + 1) * 2;
+  LexName *slots = xcalloc_huge(cap * sizeof *slots);
+  for (uint32_t i = 0; i <= t->mask; i++) {
+    if (!t->slots[i].text) continue;
+    uint32_t j = t->slots[i].hash & (cap - 1);
+    while (slots[j].text) j = (j + 1) & (cap - 1);
+    slots[j] = t->slots[i];
+  }
+  free(t->slots);
+  t->slots = slots;
+  t->mask = cap - 1;
+}
+
+/* The table entry for s[0..len) (hash h), added (as TK_IDENT) if new, and
+** copied into its recent slot. */
+static const LexName *names_find(Lexer *lx, const char *s, size_t len, uint32_t h) {
+  LexNames *t = lx->names;
+  LexName *r = &t->recent[h % LEX_RECENT];
+  uint32_t i = h & t->mask;
+  for (; t->slots[i].text; i = (i + 1) & t->mask) {
+    const LexName *e = &t->slots[i];
+    if (e->hash == h && e->len == len && memcmp(e->text, s, len) == 0) {
+      *r = *e;
+      return r;
+    }
+  }
+  if ((t->count + 1) * 4 > (t->mask + 1) * 3) {
+    names_grow(t);
+    for (i = h & t->mask; t->slots[i].text; i = (i + 1) & t->mask) {}
+  }
+  LexName *e = &t->slots[i];
+  e->text = arena_strndup(lx->arena, s, len);
+  e->hash = h;
+  e->len = (uint16_t)len;
+  e->kind = TK_IDENT;
+  t->count++;
+  *r = *e;
+  return e;
+}
+
+/* names_find, answered from the recent slots when the name is there. */
+static inline const LexName *names_lookup(Lexer *lx, const char *s, size_t len, uint32_t h) {
+  const LexName *r = &lx->names->recent[h % LEX_RECENT];
+  if (r->text && r->hash == h && r->len == len && memcmp(r->text, s, len) == 0) return r;
+  return names_find(lx, s, len, h);
+}
+
+static const struct { const char *word; TokenKind kind; } keywords[] = {
+  {"include", TK_INCLUDE}, {"use", TK_USE}, {"as", TK_AS}, {"let", TK_LET},
+  {"fn", TK_FN}, {"module", TK_MODULE}, {"for", TK_FOR}, {"if", TK_IF},
+  {"else", TK_ELSE}, {"each", TK_EACH}, {"true", TK_TRUE}, {"false", TK_FALSE},
+  {"undef", TK_UNDEF},
+};
+
 void lex_init(Lexer *lx, int file, Arena *arena) {
   const SrcFile *f = diag_file(file);
   lx->file = file;
@@ -35,6 +125,23 @@ void lex_init(Lexer *lx, int file, Arena *arena) {
   lx->arena = arena;
   lx->quiet = 0;
   lx->errors = 0;
+  lx->names = xcalloc(1, sizeof *lx->names);
+  lx->names->mask = 255;
+  lx->names->slots = xcalloc(lx->names->mask + 1, sizeof(LexName));
+  for (size_t i = 0; i < sizeof keywords / sizeof keywords[0]; i++) {
+    size_t len = strlen(keywords[i].word);
+    uint32_t h = name_hash(keywords[i].word, len);
+    LexName *e = (LexName *)names_lookup(lx, keywords[i].word, len, h);
+    e->kind = (uint16_t)keywords[i].kind;
+    lx->names->recent[h % LEX_RECENT] = *e;
+  }
+}
+
+void lex_free(Lexer *lx) {
+  if (!lx->names) return;
+  free(lx->names->slots);
+  free(lx->names);
+  lx->names = NULL;
 }
 
 /* ---- characters ------------------------------------------------------ */
@@ -74,9 +181,23 @@ static void lex_error(Lexer *lx, SrcRange at, const char *msg) {
   if (!lx->quiet) diag_error(at, "%s", msg);
 }
 
-static int is_ident_start(int c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-static int is_digit(int c) { return c >= '0' && c <= '9'; }
-static int is_ident_char(int c) { return is_ident_start(c) || is_digit(c); }
+/* Character classes of the ASCII bytes (all others are 0). */
+enum { CC_SPACE = 1, CC_DIGIT = 2, CC_ALPHA = 4, CC_IDENT = CC_DIGIT | CC_ALPHA };
+static const unsigned char char_class[256] = {
+  0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 1, 1, 0, 0,   /* \t \v \f \r; \n is handled apart */
+  0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+  1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,   /* space */
+  2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 0, 0, 0, 0, 0, 0,   /* 0-9 */
+  0, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4,   /* A-Z */
+  4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 0, 0, 0, 0, 4,   /* _ */
+  0, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4,   /* a-z */
+  4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 0, 0, 0, 0, 0,
+};
+
+/* c is a byte, or -1 at the end (which is in no class) */
+static int is_ident_start(int c) { return c >= 0 && (char_class[c] & CC_ALPHA); }
+static int is_digit(int c) { return c >= 0 && (char_class[c] & CC_DIGIT); }
+static int is_ident_char(int c) { return c >= 0 && (char_class[c] & CC_IDENT); }
 static int hex_value(int c) {
   if (c >= '0' && c <= '9') return c - '0';
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
@@ -88,10 +209,15 @@ static int hex_value(int c) {
 
 static void skip_space(Lexer *lx) {
   for (;;) {
-    int c = peekc(lx);
-    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') advance(lx);
+    unsigned char c = (unsigned char)*lx->p;   /* the NUL at the end is no space */
+    if (c == '\n') { lx->line++; lx->col = 1; lx->p++; }
+    else if (char_class[c] & CC_SPACE) { lx->col++; lx->p++; }
     else if (c == '/' && peekc2(lx) == '/') {
-      while (!at_end(lx) && *lx->p != '\n') advance(lx);
+      /* Columns inside the comment matter to nobody: jump to its newline,
+      ** which resets them. Only a comment that ends the file is walked. */
+      const char *nl = memchr(lx->p, '\n', (size_t)(lx->end - lx->p));
+      if (nl) lx->p = nl;
+      else while (!at_end(lx)) advance(lx);
     } else if (c == '/' && peekc2(lx) == '*') {
       int line = lx->line, col = lx->col;
       advance(lx);
@@ -110,32 +236,63 @@ static void skip_space(Lexer *lx) {
 
 /* ---- tokens ------------------------------------------------------------ */
 
-/* number := digits ['.' digits] [exp] | '.' digits [exp];  exp := ('e'|'E') ['+'|'-'] digits */
+/* Exact powers of ten as doubles (10^22 is the last one a double holds). */
+static const double pow10_exact[] = {
+  1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
+  1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+};
+
+/* The value of a decimal with significand digits m (ndigits of them) and
+** exponent e, when one IEEE operation gives it exactly rounded: m and 10^|e|
+** are then both exact, so m * 10^e or m / 10^-e is the double nearest the
+** decimal, just as strtod's. Returns 0 when it cannot say (then strtod). */
+static int decimal_fast(uint64_t m, int ndigits, int e, double *out) {
+#if FLT_EVAL_METHOD == 0   /* no excess precision, so no double rounding */
+  if (ndigits > 19 || m > ((uint64_t)1 << 53) || e < -22 || e > 22) return 0;
+  *out = e < 0 ? (double)m / pow10_exact[-e] : (double)m * pow10_exact[e];
+  return 1;
+#else
+  (void)m; (void)ndigits; (void)e; (void)out;
+  return 0;
+#endif
+}
+
+/* number := digits ['.' digits] [exp] | '.' digits [exp];  exp := ('e'|'E') ['+'|'-'] digits
+** Numbers are ASCII, so this steps bytes and adds their count to the column. */
 static void lex_number(Lexer *lx, Token *t) {
-  const char *start = lx->p;
-  int ok = 1;
-  while (is_digit(peekc(lx))) advance(lx);
-  if (peekc(lx) == '.') {
-    advance(lx);
-    while (is_digit(peekc(lx))) advance(lx);
+  const char *start = lx->p, *s = start;
+  uint64_t m = 0;
+  int ndigits = 0, e = 0, ok = 1;
+  for (; char_class[(unsigned char)*s] & CC_DIGIT; s++, ndigits++) m = m * 10 + (uint64_t)(*s - '0');
+  if (*s == '.') {
+    for (s++; char_class[(unsigned char)*s] & CC_DIGIT; s++, ndigits++, e--) m = m * 10 + (uint64_t)(*s - '0');
   }
-  if (peekc(lx) == 'e' || peekc(lx) == 'E') {
-    advance(lx);
-    if (peekc(lx) == '+' || peekc(lx) == '-') advance(lx);
-    if (!is_digit(peekc(lx))) ok = 0;
-    while (is_digit(peekc(lx))) advance(lx);
+  if (*s == 'e' || *s == 'E') {
+    s++;
+    int neg = *s == '-', x = 0;
+    if (*s == '+' || *s == '-') s++;
+    if (!(char_class[(unsigned char)*s] & CC_DIGIT)) ok = 0;
+    for (; char_class[(unsigned char)*s] & CC_DIGIT; s++) if (x < 100000) x = x * 10 + (*s - '0');
+    e += neg ? -x : x;
   }
   /* "1.2.3", "12abc", "1e": glue the rest on so the error names it whole */
-  while (is_ident_char(peekc(lx)) || (peekc(lx) == '.' && is_digit(peekc2(lx)))) { ok = 0; advance(lx); }
+  while ((char_class[(unsigned char)*s] & CC_IDENT) ||
+         (*s == '.' && (char_class[(unsigned char)s[1]] & CC_DIGIT))) {
+    ok = 0;
+    s++;
+  }
+  int len = (int)(s - start);
+  lx->p = s;
+  lx->col += len;
   t->kind = TK_NUMBER;
   t->range = from(lx, t->range.line, t->range.col);
-  int len = (int)(lx->p - start);
   if (!ok) {
     lx->errors++;
     if (!lx->quiet) diag_error(t->range, "invalid number `%.*s`", len, start);
     t->number = 0;
     return;
   }
+  if (decimal_fast(m, ndigits, e, &t->number)) return;
   /* The token is a complete, valid number and the source ends in a NUL, so
   ** strtod stops exactly at its end: no copy needed. */
   t->number = strtod(start, NULL);
@@ -250,31 +407,23 @@ static void lex_color(Lexer *lx, Token *t) {
   }
 }
 
-static const struct { const char *word; int len; TokenKind kind; } keywords[] = {
-  {"include", 7, TK_INCLUDE}, {"use", 3, TK_USE}, {"as", 2, TK_AS}, {"let", 3, TK_LET},
-  {"fn", 2, TK_FN}, {"module", 6, TK_MODULE}, {"for", 3, TK_FOR}, {"if", 2, TK_IF},
-  {"else", 4, TK_ELSE}, {"each", 4, TK_EACH}, {"true", 4, TK_TRUE}, {"false", 5, TK_FALSE},
-  {"undef", 5, TK_UNDEF},
-};
-
 static void lex_ident(Lexer *lx, Token *t) {
-  const char *start = lx->p;
+  const char *start = lx->p, *s = start;
+  uint32_t h = 2166136261u;   /* name_hash, computed while scanning */
   /* identifiers are ASCII: step bytes directly */
-  while (lx->p < lx->end && is_ident_char((unsigned char)*lx->p)) lx->p++;
-  int len = (int)(lx->p - start);
-  lx->col += len;
+  for (; char_class[(unsigned char)*s] & CC_IDENT; s++) h = (h ^ (unsigned char)*s) * 16777619u;
+  size_t len = (size_t)(s - start);
+  lx->p = s;
+  lx->col += (int)len;
   t->range = from(lx, t->range.line, t->range.col);
-  t->kind = TK_IDENT;
-  if (len <= 7) {
-    for (size_t i = 0; i < sizeof keywords / sizeof keywords[0]; i++) {
-      if (keywords[i].len == len && keywords[i].word[0] == start[0] &&
-          memcmp(keywords[i].word, start, (size_t)len) == 0) {
-        t->kind = keywords[i].kind;
-        return;
-      }
-    }
+  if (len > LEX_MAX_INTERNED) {
+    t->kind = TK_IDENT;
+    t->string = arena_strndup(lx->arena, start, len);
+    return;
   }
-  t->string = arena_strndup(lx->arena, start, (size_t)len);
+  const LexName *name = names_lookup(lx, start, len, h);
+  t->kind = (TokenKind)name->kind;
+  if (t->kind == TK_IDENT) t->string = (char *)name->text;
 }
 
 /* Report the character at p as unexpected and step over it. */
@@ -323,34 +472,36 @@ static int lex_operator(Lexer *lx, Token *t) {
     case '|': if (d != '|') return 0; two = 1; k = TK_OR; break;
     default: return 0;
   }
-  advance(lx);
-  if (two) advance(lx);
+  lx->p += 1 + two;   /* operators are ASCII */
+  lx->col += 1 + two;
   t->kind = k;
   t->range = from(lx, t->range.line, t->range.col);
   return 1;
 }
 
-Token lex_next(Lexer *lx) {
-  Token t;
+void lex_next(Lexer *lx, Token *t) {
   int errors_before = lx->errors;   /* a stray character before it counts too */
   for (;;) {
     skip_space(lx);
-    memset(&t, 0, sizeof t);
-    t.range = here(lx);
-    t.start = lx->p;
+    t->kind = TK_EOF;
+    t->range = here(lx);
+    t->start = lx->p;
+    t->string = NULL;
+    memset(t->color, 0, sizeof t->color);   /* clears the whole union */
     int c = peekc(lx);
     if (c < 0) {
-      t.kind = TK_EOF;
-      t.range.end_col = t.range.col;
-      return t;
+      t->range.end_col = t->range.col;
+      t->len = 0;
+      t->bad = 0;
+      return;
     }
-    if (is_digit(c) || (c == '.' && is_digit(peekc2(lx)))) lex_number(lx, &t);
-    else if (is_ident_start(c)) lex_ident(lx, &t);
-    else if (c == '"') lex_string(lx, &t);
-    else if (c == '#') lex_color(lx, &t);
-    else if (!lex_operator(lx, &t)) { lex_stray(lx); continue; }
-    t.len = (int)(lx->p - t.start);
-    t.bad = lx->errors > errors_before;
-    return t;
+    if (is_digit(c) || (c == '.' && is_digit(peekc2(lx)))) lex_number(lx, t);
+    else if (is_ident_start(c)) lex_ident(lx, t);
+    else if (c == '"') lex_string(lx, t);
+    else if (c == '#') lex_color(lx, t);
+    else if (!lex_operator(lx, t)) { lex_stray(lx); continue; }
+    t->len = (int)(lx->p - t->start);
+    t->bad = lx->errors > errors_before;
+    return;
   }
 }

@@ -33,27 +33,37 @@ typedef enum { TOKEN_LIST(TOKEN_ENUM) TK_COUNT } TokenKind;
 
 typedef struct Token {
   TokenKind kind;
+  int len;             /* byte length */
+  int bad;             /* the lexer reported an error inside this token */
   SrcRange range;
   const char *start;   /* the token's bytes in the source */
-  int len;             /* byte length */
-  double number;       /* TK_NUMBER */
-  char *string;        /* TK_STRING (decoded, arena) and TK_IDENT (arena copy) */
-  float color[4];      /* TK_COLOR: sRGB components in [0, 1] */
-  int bad;             /* the lexer reported an error inside this token */
+  /* NULL for other kinds: the parser's error paths may read it from any token */
+  char *string;        /* TK_STRING (decoded, arena) and TK_IDENT (interned, arena) */
+  union {              /* which one: kind */
+    double number;     /* TK_NUMBER */
+    float color[4];    /* TK_COLOR: sRGB components in [0, 1] */
+  };
 } Token;
+
+typedef struct LexNames LexNames;
 
 typedef struct Lexer {
   int file;            /* diag file index */
   const char *src, *end, *p;
   int line, col;       /* of p */
   Arena *arena;
+  LexNames *names;     /* interned identifiers, shared by copies of the lexer */
   int quiet;           /* lookahead: report nothing */
   int errors;          /* errors reported so far */
 } Lexer;
 
+/* The source must end in a NUL byte (diag_add_file's contract): the lexer
+** reads one byte past a character without checking for the end. */
 void lex_init(Lexer *lx, int file, Arena *arena);
-/* Scan the next token. Errors are reported and give TK_ERROR. */
-Token lex_next(Lexer *lx);
+/* Free the name table; the names themselves live in the arena. */
+void lex_free(Lexer *lx);
+/* Scan the next token into *t. Errors are reported and give TK_ERROR. */
+void lex_next(Lexer *lx, Token *t);
 const char *token_name(TokenKind k);
 
 #endif

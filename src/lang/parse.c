@@ -42,12 +42,12 @@ static void next_token(Parser *p) {
   p->prev_end.end_col = p->prev_end.col + 1;
   p->prev_bad = p->cur.bad;
   if (p->has_next) { p->cur = p->next; p->has_next = 0; }
-  else p->cur = lex_next(&p->lx);
+  else lex_next(&p->lx, &p->cur);
   if (diag_too_many()) p->stop = 1;
 }
 
 static Token *peek(Parser *p) {
-  if (!p->has_next) { p->next = lex_next(&p->lx); p->has_next = 1; }
+  if (!p->has_next) { lex_next(&p->lx, &p->next); p->has_next = 1; }
   return &p->next;
 }
 
@@ -100,14 +100,14 @@ static int expect(Parser *p, TokenKind k, const char *context) {
 }
 
 /* Expect the closer of a bracket opened at `open`; name the opening place. */
-static int expect_close(Parser *p, TokenKind k, const Token *open, const char *what) {
+static int expect_close(Parser *p, TokenKind k, SrcRange open, const char *what) {
   if (accept(p, k)) return 1;
   if (p->panic || p->stop) return 0;
   SrcRange at = p->cur.range;
   if (p->cur.range.line > p->prev_end.line) at = p->prev_end;
   error_at(p, at, "expected %s to close the %s opened at line %d, found %s", token_name(k), what,
-           open->range.line, found(p));
-  diag_note(open->range, "the %s opened here", what);
+           open.line, found(p));
+  diag_note(open, "the %s opened here", what);
   return 0;
 }
 
@@ -139,7 +139,7 @@ static void push(Parser *p, AstNode *n) {
 static void end_list(Parser *p, int mark, AstList *out) {
   int n = p->nscratch - mark;
   if (n > 0) {
-    AstNode **items = arena_alloc(p->arena, (size_t)n * sizeof *items);
+    AstNode **items = arena_alloc_small(p->arena, (size_t)n * sizeof *items);
     memcpy(items, p->scratch + mark, (size_t)n * sizeof *items);
     out->items = items;
     out->count = n;
@@ -187,7 +187,7 @@ static void parse_bindings(Parser *p, AstList *out) {
 
 /* params := [ param { ',' param } [','] ];  param := IDENT [ '=' expr ] */
 static void parse_params(Parser *p, AstList *out) {
-  Token open = p->cur;
+  SrcRange open = p->cur.range;
   if (!expect(p, TK_LPAREN, "to start the parameter list")) return;
   int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
@@ -201,11 +201,11 @@ static void parse_params(Parser *p, AstList *out) {
     if (!accept(p, TK_COMMA)) break;
   }
   end_list(p, mark, out);
-  expect_close(p, TK_RPAREN, &open, "parameter list");
+  expect_close(p, TK_RPAREN, open, "parameter list");
 }
 
 /* args := [ arg { ',' arg } [','] ];  arg := [ IDENT '=' ] expr */
-static void parse_args(Parser *p, AstList *out, const Token *open) {
+static void parse_args(Parser *p, AstList *out, SrcRange open) {
   int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
     AstNode *arg = node(p, AST_ARG, p->cur.range);
@@ -226,19 +226,19 @@ static void parse_args(Parser *p, AstList *out, const Token *open) {
 /* list := '[' ']' | '[' expr ':' expr [ ':' expr ] ']'
 **       | '[' list_elem { ',' list_elem } [','] ']' */
 static AstNode *parse_list(Parser *p) {
-  Token open = p->cur;
+  SrcRange open = p->cur.range;
   next_token(p);
-  AstNode *l = node(p, AST_LIST, open.range);
-  if (accept(p, TK_RBRACKET)) { l->range = span_from(p, open.range); return l; }
+  AstNode *l = node(p, AST_LIST, open);
+  if (accept(p, TK_RBRACKET)) { l->range = span_from(p, open); return l; }
   AstNode *first = parse_list_elem(p);
   if (check(p, TK_COLON) && first && first->kind < AST_COMP_FOR) {
-    AstNode *r = node(p, AST_RANGE, open.range);
+    AstNode *r = node(p, AST_RANGE, open);
     next_token(p);
     r->a = first;
     r->c = parse_expr(p);
     if (accept(p, TK_COLON)) { r->b = r->c; r->c = parse_expr(p); }
-    expect_close(p, TK_RBRACKET, &open, "range");
-    r->range = span_from(p, open.range);
+    expect_close(p, TK_RBRACKET, open, "range");
+    r->range = span_from(p, open);
     return r;
   }
   int mark = begin_list(p);
@@ -248,8 +248,8 @@ static AstNode *parse_list(Parser *p) {
     push(p, parse_list_elem(p));
   }
   end_list(p, mark, &l->list);
-  expect_close(p, TK_RBRACKET, &open, "list");
-  l->range = span_from(p, open.range);
+  expect_close(p, TK_RBRACKET, open, "list");
+  l->range = span_from(p, open);
   return l;
 }
 
@@ -265,17 +265,17 @@ static AstNode *parse_list_elem(Parser *p) {
   if (check(p, TK_FOR) || check(p, TK_LET)) {
     n = node(p, check(p, TK_FOR) ? AST_COMP_FOR : AST_COMP_LET, start);
     next_token(p);
-    Token open = p->cur;
+    SrcRange open = p->cur.range;
     expect(p, TK_LPAREN, n->kind == AST_COMP_FOR ? "after `for`" : "after `let`");
     parse_bindings(p, &n->list);
-    expect_close(p, TK_RPAREN, &open, n->kind == AST_COMP_FOR ? "`for` bindings" : "`let` bindings");
+    expect_close(p, TK_RPAREN, open, n->kind == AST_COMP_FOR ? "`for` bindings" : "`let` bindings");
     n->a = parse_list_elem(p);
   } else if (accept(p, TK_IF)) {
     n = node(p, AST_COMP_IF, start);
-    Token open = p->cur;
+    SrcRange open = p->cur.range;
     expect(p, TK_LPAREN, "after `if`");
     n->a = parse_expr(p);
-    expect_close(p, TK_RPAREN, &open, "`if` condition");
+    expect_close(p, TK_RPAREN, open, "`if` condition");
     n->b = parse_list_elem(p);
     if (accept(p, TK_ELSE)) n->c = parse_list_elem(p);
   } else if (accept(p, TK_EACH)) {
@@ -295,50 +295,52 @@ static AstNode *parse_list_elem(Parser *p) {
 ** let_expr := 'let' '(' bindings ')' expr
 ** fn_expr  := 'fn' params '=' expr */
 static AstNode *parse_primary(Parser *p) {
-  Token t = p->cur;
+  const Token *t = &p->cur;   /* read before next_token replaces it */
+  SrcRange at = t->range;
   AstNode *n;
-  switch (t.kind) {
-    case TK_NUMBER: next_token(p); n = node(p, AST_NUMBER, t.range); n->number = t.number; return n;
-    case TK_STRING: next_token(p); n = node(p, AST_STRING, t.range); n->name = t.string; return n;
-    case TK_COLOR:
-      next_token(p);
-      n = node(p, AST_COLOR, t.range);
-      float *rgba = arena_alloc(p->arena, sizeof t.color);
-      memcpy(rgba, t.color, sizeof t.color);
+  switch (t->kind) {
+    case TK_NUMBER: n = node(p, AST_NUMBER, at); n->number = t->number; next_token(p); return n;
+    case TK_STRING: n = node(p, AST_STRING, at); n->name = t->string; next_token(p); return n;
+    case TK_COLOR: {
+      n = node(p, AST_COLOR, at);
+      float *rgba = arena_alloc_small(p->arena, sizeof t->color);
+      memcpy(rgba, t->color, sizeof t->color);
       n->color = rgba;
+      next_token(p);
       return n;
+    }
     case TK_TRUE: case TK_FALSE:
-      next_token(p); n = node(p, AST_BOOL, t.range); n->number = t.kind == TK_TRUE; return n;
-    case TK_UNDEF: next_token(p); return node(p, AST_UNDEF, t.range);
-    case TK_IDENT: next_token(p); n = node(p, AST_IDENT, t.range); n->name = t.string; return n;
+      n = node(p, AST_BOOL, at); n->number = t->kind == TK_TRUE; next_token(p); return n;
+    case TK_UNDEF: next_token(p); return node(p, AST_UNDEF, at);
+    case TK_IDENT: n = node(p, AST_IDENT, at); n->name = t->string; next_token(p); return n;
     case TK_LPAREN:
       next_token(p);
       n = parse_expr(p);
-      expect_close(p, TK_RPAREN, &t, "parenthesis");
+      expect_close(p, TK_RPAREN, at, "parenthesis");
       return n;
     case TK_LBRACKET: return parse_list(p);
     case TK_LET: {
       next_token(p);
-      n = node(p, AST_LET_EXPR, t.range);
-      Token open = p->cur;
+      n = node(p, AST_LET_EXPR, at);
+      SrcRange open = p->cur.range;
       expect(p, TK_LPAREN, "after `let` in an expression");
       parse_bindings(p, &n->list);
-      expect_close(p, TK_RPAREN, &open, "`let` bindings");
+      expect_close(p, TK_RPAREN, open, "`let` bindings");
       n->a = parse_expr(p);
-      n->range = span_from(p, t.range);
+      n->range = span_from(p, at);
       return n;
     }
     case TK_FN:
       next_token(p);
-      n = node(p, AST_FN_EXPR, t.range);
+      n = node(p, AST_FN_EXPR, at);
       parse_params(p, &n->list);
       expect(p, TK_ASSIGN, "before the body of a function literal");
       n->a = parse_expr(p);
-      n->range = span_from(p, t.range);
+      n->range = span_from(p, at);
       return n;
     default:
-      if (t.bad) p->panic = 1;   /* the lexer already reported it */
-      error_at(p, t.range, "expected an expression, found %s", found(p));
+      if (t->bad) p->panic = 1;   /* the lexer already reported it */
+      error_at(p, at, "expected an expression, found %s", found(p));
       return bad_expr(p);
   }
 }
@@ -348,13 +350,14 @@ static AstNode *parse_postfix(Parser *p) {
   SrcRange start = p->cur.range;
   AstNode *e = parse_primary(p);
   for (;;) {
-    if (p->panic || p->stop) return e;
-    Token t = p->cur;
+    TokenKind k = p->cur.kind;
+    if (p->panic || p->stop || (k != TK_LPAREN && k != TK_LBRACKET && k != TK_DOT)) return e;
+    SrcRange at = p->cur.range;   /* of the bracket (read only then: most primaries stand alone) */
     if (accept(p, TK_LPAREN)) {
       AstNode *call = node(p, AST_CALL, start);
       call->a = e;
-      if (!enter(p, t.range)) return e;
-      parse_args(p, &call->list, &t);
+      if (!enter(p, at)) return e;
+      parse_args(p, &call->list, at);
       leave(p);
       call->range = span_from(p, start);
       e = call;
@@ -362,7 +365,7 @@ static AstNode *parse_postfix(Parser *p) {
       AstNode *ix = node(p, AST_INDEX, start);
       ix->a = e;
       ix->b = parse_expr(p);
-      expect_close(p, TK_RBRACKET, &t, "index");
+      expect_close(p, TK_RBRACKET, at, "index");
       ix->range = span_from(p, start);
       e = ix;
     } else if (accept(p, TK_DOT)) {
@@ -457,8 +460,44 @@ static AstNode *parse_binary(Parser *p, int min_prec) {
   }
 }
 
+/* Tokens that end an expression: no operator, call, index or member
+** continues one through them. */
+static int ends_expr(TokenKind k) {
+  return k == TK_COMMA || k == TK_RBRACKET || k == TK_RPAREN || k == TK_SEMI || k == TK_COLON ||
+         k == TK_RBRACE;
+}
+
+/* A lone number, NUMBER or '-' NUMBER before a token that ends the
+** expression, is most of a long point list: build it without descending
+** through every precedence level, with the same node, diagnostics and
+** depth limit as that descent. NULL, having consumed nothing, otherwise. */
+static AstNode *parse_lone_number(Parser *p) {
+  int neg = check(p, TK_MINUS);
+  if ((!neg && !check(p, TK_NUMBER)) || p->panic || p->stop) return NULL;
+  if (p->depth + 2 + neg > PARSE_MAX_DEPTH) return NULL;   /* let the descent report it */
+  const Token *t = peek(p);
+  if (neg) {
+    /* the descent would stop after the `-` once errors hit the cap */
+    if (t->kind != TK_NUMBER || diag_too_many()) return NULL;
+    Lexer scout = p->lx;   /* the token after the number, as starts_block looks */
+    scout.quiet = 1;
+    Token after;
+    lex_next(&scout, &after);
+    if (!ends_expr(after.kind)) return NULL;
+  } else if (!ends_expr(t->kind)) return NULL;
+  SrcRange start = p->cur.range;
+  if (neg) next_token(p);
+  AstNode *n = node(p, AST_NUMBER, p->cur.range);
+  n->number = neg ? -p->cur.number : p->cur.number;
+  next_token(p);
+  if (neg) n->range = span_from(p, start);   /* as parse_unary folds it */
+  return n;
+}
+
 /* expr := or [ '?' expr ':' expr ] */
 static AstNode *parse_expr(Parser *p) {
+  AstNode *lone = parse_lone_number(p);
+  if (lone) return lone;
   SrcRange start = p->cur.range;
   if (!enter(p, start)) return bad_expr(p);
   AstNode *cond = parse_binary(p, 1);
@@ -510,14 +549,14 @@ static void parse_items(Parser *p, AstList *out) {
 
 /* braced := '{' items '}' */
 static void parse_braced(Parser *p, AstList *out, const char *what) {
-  Token open = p->cur;
+  SrcRange open = p->cur.range;
   if (!expect(p, TK_LBRACE, what)) return;
-  if (!enter(p, open.range)) return;
+  if (!enter(p, open)) return;
   parse_items(p, out);
   leave(p);
   if (p->stop) return;
   p->panic = 0;
-  expect_close(p, TK_RBRACE, &open, "block");
+  expect_close(p, TK_RBRACE, open, "block");
 }
 
 /* body := braced | item */
@@ -607,10 +646,10 @@ static AstNode *parse_for(Parser *p) {
   SrcRange start = p->cur.range;
   next_token(p);
   AstNode *n = node(p, AST_FOR, start);
-  Token open = p->cur;
+  SrcRange open = p->cur.range;
   expect(p, TK_LPAREN, "after `for`");
   if (!p->panic) parse_bindings(p, &n->list);
-  if (!p->panic) expect_close(p, TK_RPAREN, &open, "`for` bindings");
+  if (!p->panic) expect_close(p, TK_RPAREN, open, "`for` bindings");
   if (!p->panic) parse_body(p, &n->list2);
   n->range = span_from(p, start);
   return n;
@@ -621,10 +660,10 @@ static AstNode *parse_if(Parser *p) {
   SrcRange start = p->cur.range;
   next_token(p);
   AstNode *n = node(p, AST_IF, start);
-  Token open = p->cur;
+  SrcRange open = p->cur.range;
   expect(p, TK_LPAREN, "after `if`");
   if (!p->panic) n->a = parse_expr(p);
-  if (!p->panic) expect_close(p, TK_RPAREN, &open, "`if` condition");
+  if (!p->panic) expect_close(p, TK_RPAREN, open, "`if` condition");
   if (!p->panic) parse_body(p, &n->list);
   if (!p->panic && accept(p, TK_ELSE)) {
     n->has_else = 1;
@@ -696,7 +735,8 @@ static int starts_block(Parser *p) {
   Lexer scout = p->lx;
   scout.quiet = 1;
   for (;;) {
-    Token u = lex_next(&scout);
+    Token u;
+    lex_next(&scout, &u);
     if (u.kind == TK_LBRACE) return 1;
     if (u.kind != TK_IDENT) return 0;
   }
@@ -734,7 +774,7 @@ AstNode *parse_file(int file, Arena *arena) {
   lex_init(&p.lx, file, arena);
   p.arena = arena;
   p.prev_end = src_none();
-  p.cur = lex_next(&p.lx);
+  lex_next(&p.lx, &p.cur);
   AstNode *prog = node(&p, AST_PROGRAM, p.cur.range);
   prog->range.line = prog->range.col = 1;
   while (!check(&p, TK_EOF) && !p.stop) {
@@ -748,6 +788,7 @@ AstNode *parse_file(int file, Arena *arena) {
   prog->range.end_line = p.cur.range.line;
   prog->range.end_col = p.cur.range.col;
   free(p.scratch);
+  lex_free(&p.lx);
   return prog;
 }
 
@@ -759,10 +800,11 @@ AstNode *parse_expression_file(int file, Arena *arena) {
   p.arena = arena;
   p.prev_end = src_none();
   int errors_before = diag_error_count();
-  p.cur = lex_next(&p.lx);
+  lex_next(&p.lx, &p.cur);
   AstNode *e = parse_expr(&p);
   if (!p.panic && !p.stop && !check(&p, TK_EOF))
     error_at(&p, p.cur.range, "unexpected %s after the value", found(&p));
   free(p.scratch);
+  lex_free(&p.lx);
   return (p.errors || p.stop || diag_error_count() > errors_before) ? NULL : e;
 }
