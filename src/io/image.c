@@ -29,11 +29,16 @@
 
 #define BRIDGE_NAME "libsumi_oiio.so"
 
-/* Buckets of the linear -> sRGB 8-bit encoder: [0, 1) is cut into
-** SRGB_BUCKETS equal steps, each narrower than the smallest gap between
-** two code thresholds (~3.0e-4 near black), so a bucket's first code is at
-** most one step below the answer. */
-#define SRGB_BUCKETS 4096
+/* Buckets of the linear -> sRGB 8-bit encoder, indexed by a float's bits:
+** the exponent and the top SRGB_MANT_BITS mantissa bits, for values from
+** 2^SRGB_MIN_EXP (below it every value is code 0: the first threshold is
+** ~1.5e-4) up to 1. Each bucket is narrower than the gap between two code
+** thresholds in its octave, so a bucket's first code is at most one below
+** the answer (srgb_init checks this). */
+#define SRGB_MANT_BITS 7
+#define SRGB_MIN_EXP (-13)
+#define SRGB_LO_BITS ((uint32_t)(127 + SRGB_MIN_EXP) << 23)   /* bits of 2^SRGB_MIN_EXP */
+#define SRGB_BUCKETS (((uint32_t)-SRGB_MIN_EXP) << SRGB_MANT_BITS)
 
 /* Attempts at a fresh temporary name before giving up (a name is taken
 ** only if a file of that name already exists). */
@@ -57,7 +62,8 @@ static void set_err(char *err, size_t errlen, const char *fmt, ...) {
 static pthread_once_t srgb_once = PTHREAD_ONCE_INIT;
 static float srgb_decode[256];              /* code -> linear */
 static double srgb_threshold[257];          /* smallest linear value of each code */
-static uint8_t srgb_bucket[SRGB_BUCKETS + 1];
+static float srgb_threshold_f[257];         /* the smallest float at or above each */
+static uint8_t srgb_bucket[SRGB_BUCKETS];   /* code of each bucket's smallest value */
 
 static double srgb_to_linear_d(double s) {
   return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
@@ -67,26 +73,55 @@ static double linear_to_srgb_d(double v) {
   return v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
 }
 
+static float float_of_bits(uint32_t u) {
+  float f;
+  memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+/* The code whose threshold interval holds v, by search from code k up. */
+static int code_from(double v, int k) {
+  while (v >= srgb_threshold[k + 1]) k++;
+  return k;
+}
+
 static void srgb_init(void) {
   for (int k = 0; k < 256; k++) srgb_decode[k] = (float)srgb_to_linear_d(k / 255.0);
   srgb_threshold[0] = -INFINITY;
   for (int k = 1; k < 256; k++) srgb_threshold[k] = srgb_to_linear_d((k - 0.5) / 255.0);
   srgb_threshold[256] = INFINITY;
-  int k = 0;
-  for (int b = 0; b <= SRGB_BUCKETS; b++) {
-    double v = (double)b / SRGB_BUCKETS;
-    while (v >= srgb_threshold[k + 1]) k++;
+  /* float thresholds: for a float v, v >= srgb_threshold_f[k] exactly when
+  ** (double)v >= srgb_threshold[k] */
+  srgb_threshold_f[0] = -INFINITY;
+  srgb_threshold_f[256] = INFINITY;
+  for (int k = 1; k < 256; k++) {
+    float f = (float)srgb_threshold[k];
+    if ((double)f < srgb_threshold[k]) f = nextafterf(f, INFINITY);
+    while ((double)nextafterf(f, -INFINITY) >= srgb_threshold[k]) f = nextafterf(f, -INFINITY);
+    srgb_threshold_f[k] = f;
+  }
+  if (!(srgb_threshold_f[1] > float_of_bits(SRGB_LO_BITS)))
+    sumi_fatal("srgb_init: code 1 starts below 2^%d", SRGB_MIN_EXP);
+  int k = 0;   /* codes rise with the buckets: each search starts where the last ended */
+  for (uint32_t b = 0; b < SRGB_BUCKETS; b++) {
+    uint32_t lo = SRGB_LO_BITS + (b << (23 - SRGB_MANT_BITS));
+    k = code_from(float_of_bits(lo), k);
+    int top = code_from(float_of_bits(lo + (1u << (23 - SRGB_MANT_BITS)) - 1), k);
+    if (top > k + 1) sumi_fatal("srgb_init: bucket %u spans codes %d..%d", (unsigned)b, k, top);
     srgb_bucket[b] = (uint8_t)k;
   }
 }
 
-/* The code whose threshold interval holds v: round(255 * srgb(v)) exactly. */
+/* The code whose threshold interval holds v: round(255 * srgb(v)) exactly.
+** The bucket of v's bits gives the code or the one below it. */
 static inline uint8_t encode8(float v) {
   if (!(v > 0.0f)) return 0;               /* negative, zero or NaN */
   if (v >= 1.0f) return 255;
-  int k = srgb_bucket[(int)(v * SRGB_BUCKETS)];
-  while ((double)v >= srgb_threshold[k + 1]) k++;
-  return (uint8_t)k;
+  uint32_t u;
+  memcpy(&u, &v, sizeof u);
+  if (u < SRGB_LO_BITS) return 0;          /* below 2^SRGB_MIN_EXP */
+  int k = srgb_bucket[(u - SRGB_LO_BITS) >> (23 - SRGB_MANT_BITS)];
+  return (uint8_t)(k + (v >= srgb_threshold_f[k + 1]));
 }
 
 static inline uint8_t alpha8(float a) {
@@ -145,9 +180,23 @@ static size_t image_values(const Image *img) {
 }
 
 /* Encode npix pixels of nc channels (alpha at ac, or -1) to 8-bit codes.
-** Flat regions are the rule in stylised images, so a pixel equal to the
-** one before it reuses its codes (halves the time of a toon frame). */
+** Flat regions are the rule in stylised images, so a pixel whose bits
+** equal the one before it reuses its codes (equal bits, equal codes). */
 static void encode_pixels8(const float *src, uint8_t *dst, size_t npix, int nc, int ac) {
+  if (nc == 3 && ac < 0) {   /* opaque RGB, the common case, unrolled */
+    uint32_t prev[3] = {0, 0, 0};
+    for (size_t p = 0; p < npix; p++, src += 3, dst += 3) {
+      uint32_t u[3];
+      memcpy(u, src, sizeof u);
+      if (p > 0 && u[0] == prev[0] && u[1] == prev[1] && u[2] == prev[2]) {
+        dst[0] = dst[-3]; dst[1] = dst[-2]; dst[2] = dst[-1];
+        continue;
+      }
+      dst[0] = encode8(src[0]); dst[1] = encode8(src[1]); dst[2] = encode8(src[2]);
+      prev[0] = u[0]; prev[1] = u[1]; prev[2] = u[2];
+    }
+    return;
+  }
   for (size_t p = 0; p < npix; p++, src += nc, dst += nc) {
     int same = p > 0;
     for (int c = 0; c < nc && same; c++) same = src[c] == src[c - nc];

@@ -259,33 +259,44 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
   int64_t row1 = t->a[1] * cx + t->b[1] * cy + t->c[1];
   int64_t row2 = t->a[2] * cx + t->b[2] * cy + t->c[2];
   int64_t step_x0 = (int64_t)t->a[0] * SUB, step_x1 = (int64_t)t->a[1] * SUB, step_x2 = (int64_t)t->a[2] * SUB;
+  /* the attribute planes in locals: the plane stores below could alias t */
+  const float z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
+  const float iw0 = t->iw[0], iw1 = t->iw[1], iw2 = t->iw[2];
+  const float u0 = t->b1w[0], u1 = t->b1w[1], u2 = t->b1w[2];
+  const float v0 = t->b2w[0], v1 = t->b2w[1], v2 = t->b2w[2];
+  const float ox = t->ox;
+  const int32_t object = t->object, face = t->face;
+  float *depth = rt->depth;
   for (int y = y0; y < y1; y++) {
     int64_t e0 = row0, e1 = row1, e2 = row2;
     float fy = (float)y + 0.5f - t->oy;             /* sample y relative to the plane origin */
-    int idx = (y - rt->oy) * rt->stride + (x0 - rt->ox), entered = 0;
-    for (int x = x0; x < x1; x++, idx++) {
-      if ((e0 | e1 | e2) < 0) {                     /* a sign bit: outside some edge */
-        if (entered) break;                         /* convex: the row's span has ended */
-      } else {
-        entered = 1;
-        float fx = (float)x + 0.5f - t->ox;
-        float z = t->z[0] + t->z[1] * fx + t->z[2] * fy;   /* depth is affine in screen space */
-        if (rt->count) rt->count[idx]++;
-        if (z < rt->depth[idx]) {                   /* nearer than what is there: keep it */
-          /* b/w and 1/w are affine in screen space; their ratio is the
-          ** perspective-correct barycentric */
-          float iw = t->iw[0] + t->iw[1] * fx + t->iw[2] * fy;
-          float b1w = t->b1w[0] + t->b1w[1] * fx + t->b1w[2] * fy;
-          float b2w = t->b2w[0] + t->b2w[1] * fx + t->b2w[2] * fy;
-          float inv = 1.0f / iw;
-          rt->depth[idx] = z;
-          rt->object[idx] = t->object;
-          rt->face[idx] = t->face;
-          rt->bary[idx][0] = b1w * inv;
-          rt->bary[idx][1] = b2w * inv;
-        }
-      }
+    int idx = (y - rt->oy) * rt->stride + (x0 - rt->ox), x = x0;
+    /* skip the samples left of the row's span: a sign bit set means outside some edge */
+    for (; x < x1 && (e0 | e1 | e2) < 0; x++, idx++) {
       e0 += step_x0;                                /* one pixel right */
+      e1 += step_x1;
+      e2 += step_x2;
+    }
+    /* the span: inside all three edges; the triangle is convex, so the row
+    ** has one span, and it ends at the first sample outside */
+    for (; x < x1 && (e0 | e1 | e2) >= 0; x++, idx++) {
+      float fx = (float)x + 0.5f - ox;
+      float z = z0 + z1 * fx + z2 * fy;             /* depth is affine in screen space */
+      if (rt->count) rt->count[idx]++;
+      if (z < depth[idx]) {                         /* nearer than what is there: keep it */
+        /* b/w and 1/w are affine in screen space; their ratio is the
+        ** perspective-correct barycentric */
+        float iw = iw0 + iw1 * fx + iw2 * fy;
+        float b1w = u0 + u1 * fx + u2 * fy;
+        float b2w = v0 + v1 * fx + v2 * fy;
+        float inv = 1.0f / iw;
+        depth[idx] = z;
+        rt->object[idx] = object;
+        rt->face[idx] = face;
+        rt->bary[idx][0] = b1w * inv;
+        rt->bary[idx][1] = b2w * inv;
+      }
+      e0 += step_x0;
       e1 += step_x1;
       e2 += step_x2;
     }

@@ -322,6 +322,31 @@ static void tess_task(void *ctx, int k) {
   tessellate_object(job->f, &job->f->objects[job->todo[k]]);
 }
 
+/* Triangles a uniform or polygon object will make (0 for the others). */
+static long long planned_triangles(const SceneObject *so) {
+  const SceneGeometry *g = so->geometry;
+  if (!g || is_subdiv(g)) return 0;
+  if (g->kind == GEOM_MESH) return g->nfaces > 0 ? g->face_start[g->nfaces] - 2LL * g->nfaces : 0;
+  if (so->tess_kind != TESS_UNIFORM) return 0;
+  long long n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
+  return g->npatches * n * n * 2;
+}
+
+/* The scene's triangle budget, checked before any is made. */
+static int check_triangles(const Scene *s) {
+  long long total = 0;
+  for (int i = 0; i < s->nobjects; i++) {
+    total += planned_triangles(&s->objects[i]);
+    if (total > RENDER_MAX_TRIANGLES) {
+      diag_error(s->objects[i].loc,
+                 "the scene asks for more than %lld triangles by this object (the limit); lower `tessellate` "
+                 "or use `tessellate adaptive(px)`", RENDER_MAX_TRIANGLES);
+      return 0;
+    }
+  }
+  return 1;
+}
+
 static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads) {
   int ok = 1, ntodo = 0;
   f->nobjects = s->nobjects;
@@ -411,6 +436,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
     return 0;
   }
   prepare_styles(s, f);
+  if (!check_triangles(s)) return 0;
   double t1 = stats_now();
   int ok = prepare_objects(s, f, thread_count(o));
   double t2 = stats_now();
@@ -587,7 +613,7 @@ typedef struct TileJob {
   const Bins *bins;
   GBuffer *full;               /* whole G-buffer, or NULL: per-worker tile planes */
   Image *out;
-  ShadeFn *shade;              /* per style */
+  ShadeSpanFn *span;           /* per style: its model's span shader */
   float eye[3], back[3];       /* camera position; -forward (ortho view vector) */
   int ortho;
   int want_uv;                 /* some style's model reads ShadeSample.uv */
@@ -601,6 +627,8 @@ typedef struct Worker {
   float *depth;
   int32_t *object, *face;
   float (*bary)[2];
+  float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
+  ShadeSample *samp;           /* a tile row's rebuilt surface samples */
   double raster_s, shade_s;
 } Worker;
 
@@ -637,95 +665,94 @@ static RastTarget tile_target(Worker *w, int tx, int ty) {
   return rt;
 }
 
-/* Rebuild the surface at a sample from (object, face, bary) and shade it. */
-static void shade_sample(const TileJob *job, int obj, int face, const float bary[2], float rgb[3]) {
+/* The constants of triangle face of object obj for shading its samples. */
+static void shade_tri_init(const TileJob *job, int obj, int face, ShadeTri *t) {
   const RenderObject *o = &job->f->objects[obj];
-  const int *t = o->mesh->tri[face];
-  const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
-  const float *n0 = o->wnrm[t[0]], *n1 = o->wnrm[t[1]], *n2 = o->wnrm[t[2]];
-  if (o->wcnrm) n0 = o->wcnrm[face][0], n1 = o->wcnrm[face][1], n2 = o->wcnrm[face][2];
-  float b1 = bary[0], b2 = bary[1], b0 = 1 - b1 - b2;
-  ShadeSample s;
-  s.frame = job->f;
-  s.obj = o;
-  s.face = face;
-  s.b1 = b1;
-  s.b2 = b2;
-  float px = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
-  float py = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
-  float pz = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
-  float nx = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
-  float ny = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
-  float nz = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
-  /* unit normal, turned toward the viewer when the triangle shows its back */
-  float nl = nx * nx + ny * ny + nz * nz;
-  nl = nl > 0 ? 1 / sqrtf(nl) : 0;
-  if (o->backfacing[face]) nl = -nl;
-  float vx = job->back[0], vy = job->back[1], vz = job->back[2];
-  if (!job->ortho) {                  /* toward the eye, unit */
-    vx = job->eye[0] - px; vy = job->eye[1] - py; vz = job->eye[2] - pz;
-    float vl = vx * vx + vy * vy + vz * vz;
-    vl = vl > 0 ? 1 / sqrtf(vl) : 0;
-    vx *= vl; vy *= vl; vz *= vl;
+  const int *v = o->mesh->tri[face];
+  t->frame = job->f;
+  t->obj = o;
+  t->face = face;
+  t->vert = v;
+  for (int k = 0; k < 3; k++) {
+    t->p[k] = o->wpos[v[k]];
+    t->n[k] = o->wcnrm ? o->wcnrm[face][k] : o->wnrm[v[k]];   /* hard edges: corner normals */
   }
-  s.p[0] = px; s.p[1] = py; s.p[2] = pz;
-  s.n[0] = nx * nl; s.n[1] = ny * nl; s.n[2] = nz * nl;
-  s.v[0] = vx; s.v[1] = vy; s.v[2] = vz;
-  s.uv[0] = s.uv[1] = 0;
-  if (o->mesh->uv && job->want_uv) {
-    const Vec2 *uv = o->mesh->uv;
-    s.uv[0] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
-    s.uv[1] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
+  t->back = o->backfacing[face];
+  t->ortho = job->ortho;
+  for (int k = 0; k < 3; k++) { t->eye[k] = job->eye[k]; t->view[k] = job->back[k]; }
+  t->want_uv = job->want_uv;
+}
+
+/* Shade the n samples of a tile row starting at plane index i into out,
+** nc floats a sample (3 or 4; the 4th is the alpha: 1 where shaded), the
+** background bg where nothing was drawn. Two passes: rebuild the surface
+** at every drawn sample into samp (per run of one triangle, whose
+** constants are set up once), then shade them, one model call per run of
+** one object. The samples of the first pass are independent of each
+** other, so their square roots and divisions overlap. */
+static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, float *out, int nc,
+                      const float bg[4], ShadeSample *samp) {
+  const int32_t *obj = rt->object + i, *face = rt->face + i;
+  const float(*bary)[2] = (const float(*)[2])rt->bary + i;
+  for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface */
+    if (obj[k] < 0) { e = k + 1; continue; }
+    for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
+    ShadeTri t;
+    shade_tri_init(job, obj[k], face[k], &t);
+    for (int j = k; j < e; j++) shade_tri_sample(&t, bary[j][0], bary[j][1], &samp[j]);
   }
-  job->shade[o->style - job->f->styles](&s, rgb);
+  for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
+    if (obj[k] < 0) {                                    /* a run of background */
+      for (e = k; e < n && obj[e] < 0; e++) {
+        float *o = out + e * nc;
+        o[0] = bg[0]; o[1] = bg[1]; o[2] = bg[2];
+        if (nc == 4) o[3] = bg[3];
+      }
+      continue;
+    }
+    for (e = k + 1; e < n && obj[e] == obj[k]; e++) {}
+    job->span[samp[k].obj->style - job->f->styles](samp + k, e - k, out + k * nc, nc);
+    if (nc == 4)
+      for (int j = k; j < e; j++) out[j * 4 + 3] = 1;
+  }
 }
 
 /* One sample a pixel: the sample is the pixel. */
-static void shade_tile_1(const TileJob *job, const RastTarget *rt) {
+static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *samp) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
   int nc = job->out->channels;       /* 3, or 4 with alpha */
   for (int y = rt->y0; y < rt->y1; y++) {
     float *o = &job->out->data[((size_t)y * job->f->width + rt->x0) * nc];
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-    for (int x = rt->x0; x < rt->x1; x++, i++, o += nc) {
-      if (rt->object[i] < 0) {
-        o[0] = bgu[0]; o[1] = bgu[1]; o[2] = bgu[2];
-        if (nc == 4) o[3] = bgu[3];
-        continue;
-      }
-      float rgb[3];   /* shaded in registers, stored once */
-      shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], rgb);
-      o[0] = rgb[0]; o[1] = rgb[1]; o[2] = rgb[2];
-      if (nc == 4) o[3] = 1;
-    }
+    shade_row(job, rt, i, rt->x1 - rt->x0, o, nc, bgu, samp);
   }
 }
 
 /* Shade the samples of the tile and box-filter each pixel's N x N of them
-** (premultiplied, over the background) into the output image. */
-static void shade_tile(const TileJob *job, const RastTarget *rt) {
+** (premultiplied, over the background) into the output image; rows holds
+** N rows of the tile's samples, 4 floats each; samp a row of ShadeSample. */
+static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeSample *samp) {
   const RenderFrame *f = job->f;
   int N = f->samples, W = f->width;
-  if (N == 1) { shade_tile_1(job, rt); return; }
+  if (N == 1) { shade_tile_1(job, rt, samp); return; }
   Color bg = f->background;
   float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
   float nn = (float)(N * N), inv_nn = 1.0f / nn;
   int nc = job->out->channels;       /* 3, or 4 with alpha */
+  int n = rt->x1 - rt->x0;           /* samples a row */
   for (int py = rt->y0 / N; py < rt->y1 / N; py++) {
+    for (int r = 0; r < N; r++) {    /* the pixel row's N sample rows, shaded */
+      int i = (py * N + r - rt->oy) * rt->stride + (rt->x0 - rt->ox);
+      shade_row(job, rt, i, n, rows + (size_t)r * n * 4, 4, bgp, samp);
+    }
     float *o = &job->out->data[((size_t)py * W + rt->x0 / N) * nc];
-    for (int px = rt->x0 / N; px < rt->x1 / N; px++, o += nc) {
+    for (int px = 0; px < n / N; px++, o += nc) {
       float acc[4] = {0, 0, 0, 0};
-      for (int sy = py * N; sy < py * N + N; sy++) {
-        int i = (sy - rt->oy) * rt->stride + (px * N - rt->ox);
-        for (int k = 0; k < N; k++, i++) {
-          if (rt->object[i] < 0) {
-            acc[0] += bgp[0]; acc[1] += bgp[1]; acc[2] += bgp[2]; acc[3] += bgp[3];
-            continue;
-          }
-          float rgb[3];
-          shade_sample(job, rt->object[i], rt->face[i], rt->bary[i], rgb);
-          acc[0] += rgb[0]; acc[1] += rgb[1]; acc[2] += rgb[2]; acc[3] += 1;
+      for (int r = 0; r < N; r++) {
+        const float *q = rows + ((size_t)r * n + (size_t)px * N) * 4;
+        for (int k = 0; k < N; k++, q += 4) {
+          acc[0] += q[0]; acc[1] += q[1]; acc[2] += q[2]; acc[3] += q[3];
         }
       }
       /* back to unassociated alpha: divide by the summed alpha (a
@@ -747,9 +774,16 @@ static void *tile_worker(void *arg) {
     if (k >= ntiles) break;
     double t0 = stats_now();
     RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x);
-    for (int i = b->start[k]; i < b->start[k + 1]; i++) rast_triangle(bin_tri(b, b->items[i]), &rt);
+    for (int i = b->start[k]; i < b->start[k + 1]; i++) {
+      if (i + 2 < b->start[k + 1]) {   /* the bin jumps around the lists: fetch ahead */
+        const char *ahead = (const char *)bin_tri(b, b->items[i + 2]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + sizeof(RastTri) - 1);
+      }
+      rast_triangle(bin_tri(b, b->items[i]), &rt);
+    }
     double t1 = stats_now();
-    shade_tile(job, &rt);
+    shade_tile(job, &rt, w->rows, w->samp);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
   }
@@ -768,6 +802,9 @@ static void run_workers(TileJob *job, int nthreads) {
       ws[i].face = xmalloc(n * sizeof *ws[i].face);
       ws[i].bary = xmalloc(n * sizeof *ws[i].bary);
     }
+    ws[i].samp = xmalloc(side * sizeof *ws[i].samp);
+    if (job->f->samples > 1)
+      ws[i].rows = xmalloc((size_t)job->f->samples * side * 4 * sizeof *ws[i].rows);
   }
   for (int i = 1; i < nthreads; i++)
     if (pthread_create(&tid[i], NULL, tile_worker, &ws[i]) != 0)
@@ -786,6 +823,8 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].object);
     free(ws[i].face);
     free(ws[i].bary);
+    free(ws[i].rows);
+    free(ws[i].samp);
   }
   free(ws);
   free(tid);
@@ -815,9 +854,9 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   job.ortho = f->camera.kind == CAMERA_ORTHO;
   set3(job.eye, f->camera.eye);
   set3(job.back, v3_mul(f->camera.forward, -1));
-  job.shade = xmalloc((size_t)f->nstyles * sizeof *job.shade);
+  job.span = xmalloc((size_t)f->nstyles * sizeof *job.span);
   for (int i = 0; i < f->nstyles; i++) {
-    job.shade[i] = shade_model(f->styles[i].kind);
+    job.span[i] = shade_span_model(f->styles[i].kind);
     job.want_uv |= shade_reads_uv(f->styles[i].kind);
   }
   atomic_init(&job.next, 0);
@@ -829,7 +868,7 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   run_workers(&job, nthreads < ntiles ? nthreads : ntiles);
   stats_record("raster+shade", stats_now() - t1);
   if (gbuf_out) *gbuf_out = job.full;
-  free(job.shade);
+  free(job.span);
   bins_free(&bins);
 }
 

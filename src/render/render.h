@@ -40,6 +40,12 @@
 #define RENDER_DEFAULT_HEIGHT 480
 /* Segments a patch side gets when an object asks for none (uniform). */
 #define RENDER_DEFAULT_TESS 16
+
+/* Most triangles a frame's uniformly tessellated and polygon objects may
+** ask for before anything is built (about 100 bytes each through the
+** pipeline: 20 M is ~2 GB). Subdivision has its own (SUBDIV_MAX_FACES);
+** adaptive tessellation is bounded per patch (TESS_MAX_SEGMENTS). */
+#define RENDER_MAX_TRIANGLES 20000000LL
 /* Screen tiles, in output pixels a side (a tile is TILE * samples samples). */
 #define RENDER_TILE 32
 

@@ -40,6 +40,16 @@ ShadeFn shade_model(ShadeKind kind) {
   return shade_phong;
 }
 
+ShadeSpanFn shade_span_model(ShadeKind kind) {
+  return kind == SHADE_TOON ? shade_toon_span : shade_span_generic;
+}
+
+void shade_span_generic(const ShadeSample *s, int n, float *rgb, int stride) {
+  if (n <= 0) return;
+  ShadeFn fn = shade_model(s->obj->style->kind);
+  for (int k = 0; k < n; k++, rgb += stride) fn(&s[k], rgb);
+}
+
 int shade_reads_uv(ShadeKind kind) {
   /* the models in this file and shade_toon.c do not; textured ones will */
   return kind == SHADE_THRESHOLD || kind == SHADE_BOKASHI || kind == SHADE_INK ||

@@ -6,6 +6,10 @@
 **   shade_toon.c  toon: T_n bands on the diffuse and specular terms
 **                 separately, or 1D colour ramps, and the n.v silhouette
 **                 edge (004; 002 section 2)
+** The tile pass shades a row of samples in two steps: shade_tri_sample
+** rebuilds each sample's surface from its triangle's corners (ShadeTri,
+** set up once per run of samples of one triangle), then the model's span
+** shader (shade_span_model) colours each run of samples of one object.
 ** The lighting equation every lit model shares (002 eq. 1):
 **   I = m_a l_a + sum_i m_d T(f_d) l_i + sum_i m_s T(f_s) l_i
 ** with m_a = m_d = the style's base colour, l_a = ambient (white),
@@ -38,6 +42,71 @@ typedef void (*ShadeFn)(const ShadeSample *s, float rgb[3]);
 /* The model for a shade kind. Kinds whose own model is not in this table
 ** (their stages add it) shade as phong. */
 ShadeFn shade_model(ShadeKind kind);
+
+/* One triangle's constants, hoisted out of the loop over a run of its
+** samples (neighbouring samples mostly show the same triangle). */
+typedef struct ShadeTri {
+  const RenderFrame *frame;
+  const RenderObject *obj;
+  int face;                      /* triangle of obj->mesh */
+  const int *vert;               /* its vertex indices, obj->mesh->tri[face] */
+  const float *p[3], *n[3];      /* corner world positions and normals */
+  int back;                      /* it shows its back: normals turn around */
+  int ortho;                     /* view vector: back[] (ortho) or toward eye[] */
+  float eye[3], view[3];
+  int want_uv;                   /* interpolate ShadeSample.uv (else 0) */
+} ShadeTri;
+
+/* Shade n samples of one object, s[0..n-1] (built by shade_tri_sample),
+** into rgb: sample k's colour at rgb[k * stride + 0..2]. */
+typedef void (*ShadeSpanFn)(const ShadeSample *s, int n, float *rgb, int stride);
+
+/* The span shader for a shade kind: a model's own loop where it has one
+** (toon), else shade_span_generic, which calls the kind's ShadeFn per
+** sample. Both give the colours the ShadeFn gives, bit for bit. */
+ShadeSpanFn shade_span_model(ShadeKind kind);
+void shade_span_generic(const ShadeSample *s, int n, float *rgb, int stride);
+void shade_toon_span(const ShadeSample *s, int n, float *rgb, int stride);
+
+/* The sample of t at barycentrics (b1, b2): the surface point, the unit
+** shading normal (turned toward the viewer on a back face), the unit view
+** vector and the uv, rebuilt from the triangle's corners. */
+static inline void shade_tri_sample(const ShadeTri *t, float b1, float b2, ShadeSample *s) {
+  const float *p0 = t->p[0], *p1 = t->p[1], *p2 = t->p[2];
+  const float *n0 = t->n[0], *n1 = t->n[1], *n2 = t->n[2];
+  float b0 = 1 - b1 - b2;
+  s->frame = t->frame;
+  s->obj = t->obj;
+  s->face = t->face;
+  s->b1 = b1;
+  s->b2 = b2;
+  float px = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
+  float py = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
+  float pz = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
+  float nx = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
+  float ny = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
+  float nz = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
+  float nl = nx * nx + ny * ny + nz * nz;   /* unit normal, turned on a back face */
+  nl = nl > 0 ? 1 / sqrtf(nl) : 0;
+  if (t->back) nl = -nl;
+  float vx = t->view[0], vy = t->view[1], vz = t->view[2];
+  if (!t->ortho) {                          /* toward the eye, unit */
+    vx = t->eye[0] - px; vy = t->eye[1] - py; vz = t->eye[2] - pz;
+    float vl = vx * vx + vy * vy + vz * vz;
+    vl = vl > 0 ? 1 / sqrtf(vl) : 0;
+    vx *= vl; vy *= vl; vz *= vl;
+  }
+  s->p[0] = px; s->p[1] = py; s->p[2] = pz;
+  s->n[0] = nx * nl; s->n[1] = ny * nl; s->n[2] = nz * nl;
+  s->v[0] = vx; s->v[1] = vy; s->v[2] = vz;
+  s->uv[0] = s->uv[1] = 0;
+  if (t->want_uv && t->obj->mesh->uv) {
+    const Vec2 *uv = t->obj->mesh->uv;
+    const int *v = t->vert;
+    s->uv[0] = (float)(b0 * uv[v[0]].x + b1 * uv[v[1]].x + b2 * uv[v[2]].x);
+    s->uv[1] = (float)(b0 * uv[v[0]].y + b1 * uv[v[1]].y + b2 * uv[v[2]].y);
+  }
+}
 
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
 int shade_reads_uv(ShadeKind kind);

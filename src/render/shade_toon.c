@@ -60,20 +60,26 @@ static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeT
   }
 }
 
-/* Bands: T_n on each light's diffuse term, T_m on its specular term. */
-static void toon_bands(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
-  for (int c = 0; c < 3; c++) rgb[c] = st->base[c] * st->ambient;
+/* Bands: T_n on each light's diffuse term, T_m on its specular term.
+** Spelled out per channel so the sums stay in registers (rgb may alias
+** anything, and a loop over an array would keep them in memory). */
+static inline void toon_bands(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
+  const float *base = st->base;
+  float r = base[0] * st->ambient, g = base[1] * st->ambient, b = base[2] * st->ambient;
   for (int i = 0; i < s->frame->nlights; i++) {
     float l[3], col[3];
     shade_light(s->frame, i, s->p, l, col);
     float td = shade_step_inv(shade_diffuse(s->n, l), st->threshold, st->bands_n, st->inv_bands_n);
     float ts = st->specular > 0 ? st->specular * banded_specular(st, s->n, l, s->v) : 0;
-    for (int c = 0; c < 3; c++) rgb[c] += (st->base[c] * td + ts) * col[c];
+    r += (base[0] * td + ts) * col[0];
+    g += (base[1] * td + ts) * col[1];
+    b += (base[2] * td + ts) * col[2];
   }
+  rgb[0] = r; rgb[1] = g; rgb[2] = b;
 }
 
-void shade_toon(const ShadeSample *s, float rgb[3]) {
-  const RenderStyle *st = s->obj->style;
+/* The model for one sample (inlined into the span loop, its only caller). */
+static inline void toon(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
   if (st->edge > 0 && dot3(s->n, s->v) < st->edge) {   /* edge = max(0, n.v) below the cutoff */
     rgb[0] = st->edge_color[0]; rgb[1] = st->edge_color[1]; rgb[2] = st->edge_color[2];
     return;
@@ -81,4 +87,14 @@ void shade_toon(const ShadeSample *s, float rgb[3]) {
   const ShadeToon *t = &st->src->shade.toon;
   if (t->nramp > 0) toon_ramps(s, st, t, rgb);
   else toon_bands(s, st, rgb);
+}
+
+void shade_toon_span(const ShadeSample *s, int n, float *rgb, int stride) {
+  if (n <= 0) return;
+  const RenderStyle *st = s->obj->style;
+  for (int k = 0; k < n; k++, rgb += stride) toon(&s[k], st, rgb);
+}
+
+void shade_toon(const ShadeSample *s, float rgb[3]) {
+  shade_toon_span(s, 1, rgb, 3);
 }
