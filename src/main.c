@@ -222,7 +222,7 @@ static int evaluate(const Options *o, Arena *arena, Scene *scene) {
   AstNode *prog = load_and_parse(o, arena, &file);
   if (!prog || diag_error_count()) return 1;
   if (prog->list.count == 0)
-    diag_warning(prog->range, "`%s` is empty: there is nothing to render", diag_file(file)->name);
+    diag_warning(ast_range(prog), "`%s` is empty: there is nothing to render", diag_file(file)->name);
   EvalOptions eo;
   eval_options_from(o, &eo);
   return eval_program(prog, file, arena, &eo, scene) ? 1 : 0;
@@ -330,6 +330,7 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   ro.stats = o->stats;
   const char *ext = strrchr(path, '.');
   if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
+  ro.out8 = image_write_is_8bit(path);
   Image *img = NULL;
   GBuffer *gb = NULL;
   int status = 1;

@@ -162,12 +162,25 @@ Image *image_create(int w, int h, int channels) {
   img->height = h;
   img->channels = channels;
   img->data = xcalloc((size_t)w * (size_t)h * (size_t)channels, sizeof(float));
+  img->data8 = NULL;
+  return img;
+}
+
+Image *image_create8(int w, int h, int channels) {
+  if (w <= 0 || h <= 0 || channels < 1 || channels > 4)
+    sumi_fatal("image_create8: bad size %dx%d with %d channels", w, h, channels);
+  Image *img = xcalloc(1, sizeof *img);
+  img->width = w;
+  img->height = h;
+  img->channels = channels;
+  img->data8 = xcalloc((size_t)w * (size_t)h * (size_t)channels, 1);
   return img;
 }
 
 void image_destroy(Image *img) {
   if (!img) return;
   free(img->data);
+  free(img->data8);
   free(img);
 }
 
@@ -208,9 +221,25 @@ static void encode_pixels8(const float *src, uint8_t *dst, size_t npix, int nc, 
   }
 }
 
+void image_encode8(const float *src, uint8_t *dst, size_t npix, int nc) {
+  pthread_once(&srgb_once, srgb_init);
+  encode_pixels8(src, dst, npix, nc, nc == 2 || nc == 4 ? nc - 1 : -1);
+}
+
+void image_decode8(const uint8_t *src, float *dst, size_t npix, int nc) {
+  pthread_once(&srgb_once, srgb_init);
+  int ac = nc == 2 || nc == 4 ? nc - 1 : -1;
+  for (size_t i = 0; i < npix * (size_t)nc; i++)
+    dst[i] = (int)(i % (size_t)nc) == ac ? src[i] / 255.0f : srgb_decode[src[i]];
+}
+
 void image_to_srgb8(const Image *img, uint8_t *out) {
   pthread_once(&srgb_once, srgb_init);
   size_t npix = (size_t)img->width * (size_t)img->height;
+  if (img->data8) {
+    memcpy(out, img->data8, npix * (size_t)img->channels);
+    return;
+  }
   encode_pixels8(img->data, out, npix, img->channels, image_alpha_channel(img));
 }
 
@@ -378,6 +407,8 @@ static void *encode_integer(const Image *img, int bits, int keep_alpha, int *nch
     uint16_t *o16 = out;
     for (size_t i = 0; i < npix * (size_t)in_ch; i++)
       o16[i] = (int)(i % (size_t)in_ch) == ac ? alpha16(img->data[i]) : encode16(img->data[i]);
+  } else if (img->data8) {
+    memcpy(out, img->data8, npix * (size_t)in_ch);
   } else {
     encode_pixels8(img->data, out, npix, in_ch, ac);
   }
@@ -423,14 +454,15 @@ static int write_encoded(const char *path, ImageFormat fmt, const Image *img,
     set_err(err, errlen, "cannot write '%s': %d bits per channel (use 8 or 16)", path, bits);
     return 0;
   }
-  int keep_alpha = fmt != FMT_JPEG, nch;
-  void *codes = encode_integer(img, bits, keep_alpha, &nch);
+  int keep_alpha = fmt != FMT_JPEG, nch = img->channels;
+  int as_is = img->data8 && bits == 8 && (keep_alpha || image_alpha_channel(img) < 0);
+  void *codes = as_is ? img->data8 : encode_integer(img, bits, keep_alpha, &nch);
   int ac = keep_alpha ? image_alpha_channel(img) : -1;
   SumiOiioPixels px = { img->width, img->height, nch, bits == 16 ? SUMI_OIIO_UINT16 : SUMI_OIIO_UINT8,
                         ac, codes, "" };
   SumiOiioWrite w = { 0, NULL, "sRGB", opt->jpeg_quality };
   int ok = write_atomic(path, &px, &w, err, errlen);
-  free(codes);
+  if (!as_is) free(codes);
   return ok;
 }
 
@@ -452,8 +484,21 @@ int image_write_opts(const char *path, const Image *img, const ImageWriteOptions
             img ? img->channels : 0);
     return 0;
   }
+  if (img->data8 && (fmt == FMT_EXR || (opt->bits && opt->bits != 8))) {
+    /* more precision than the image has: write its codes' values */
+    Image *f = image_create(img->width, img->height, img->channels);
+    image_decode8(img->data8, f->data, (size_t)img->width * img->height, img->channels);
+    int ok = image_write_opts(path, f, opt, err, errlen);
+    image_destroy(f);
+    return ok;
+  }
   if (fmt == FMT_EXR) return write_exr(path, img, opt, err, errlen);
   return write_encoded(path, fmt, img, opt, err, errlen);
+}
+
+int image_write_is_8bit(const char *path) {
+  ImageFormat fmt = format_of(path);
+  return fmt == FMT_PNG || fmt == FMT_TIFF || fmt == FMT_JPEG;
 }
 
 int image_write(const char *path, const Image *img, char *err, size_t errlen) {

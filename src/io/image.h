@@ -1,7 +1,10 @@
 /*
 ** Images in memory and on disk. An Image is linear float, row-major, top
 ** row first, channels interleaved; with 2 or 4 channels the last one is
-** alpha, unassociated (colour not multiplied by alpha).
+** alpha, unassociated (colour not multiplied by alpha). An 8-bit Image
+** (image_create8) holds the codes an 8-bit file stores instead: sRGB colour
+** and linear alpha, as image_encode8 makes them; a frame bound for an
+** 8-bit file is kept that way, a quarter of the memory of float.
 **
 ** Files go through OpenImageIO, behind a bridge library loaded on first
 ** use (image_oiio.h). The format comes from the extension:
@@ -35,7 +38,8 @@
 
 typedef struct Image {
   int width, height, channels;
-  float *data;                /* width * height * channels floats */
+  float *data;                /* width * height * channels floats, or NULL */
+  uint8_t *data8;             /* an 8-bit image's codes (data is NULL), or NULL */
 } Image;
 
 /* A zeroed w x h image of channels channels (1..IMAGE_MAX_CHANNELS). Sizes
@@ -43,6 +47,14 @@ typedef struct Image {
 ** out of memory end the program with a message. Free with image_destroy. */
 Image *image_create(int w, int h, int channels);
 void image_destroy(Image *img);                /* NULL is fine */
+/* A w x h 8-bit image (channels 1..4), every code 0. */
+Image *image_create8(int w, int h, int channels);
+
+/* npix pixels of nc channels (1..4; the last is alpha when nc is 2 or 4)
+** from linear float to 8-bit codes, exactly as image_write encodes them,
+** and back (a code's linear value). */
+void image_encode8(const float *src, uint8_t *dst, size_t npix, int nc);
+void image_decode8(const uint8_t *src, float *dst, size_t npix, int nc);
 
 /* Index of the alpha channel of img (the last of 2 or 4), or -1. */
 int image_alpha_channel(const Image *img);
@@ -53,6 +65,10 @@ typedef struct ImageWriteOptions {
   int exr_half;               /* exr: 16-bit half instead of 32-bit float */
   int jpeg_quality;           /* jpg: 1..100, 0 for the default (95) */
 } ImageWriteOptions;
+
+/* Does image_write (default options) store path's format as 8-bit codes?
+** True for png, tif and jpg: a frame bound for one may be made 8-bit. */
+int image_write_is_8bit(const char *path);
 
 /* Write img to path in the format its extension names. */
 int image_write(const char *path, const Image *img, char *err, size_t errlen);

@@ -628,6 +628,7 @@ typedef struct Worker {
   int32_t *object, *face;
   float (*bary)[2];
   float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
+  float *prow;                 /* a tile row of pixels bound for an 8-bit image */
   ShadeSample *samp;           /* a tile row's rebuilt surface samples */
   double raster_s, shade_s;
 } Worker;
@@ -717,25 +718,42 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, fl
   }
 }
 
+/* Where pixels x0.. of row y go: the float image itself, or (an 8-bit
+** image) the worker's row, which put_row then encodes into it. */
+static float *row_out(const TileJob *job, int x0, int y, float *prow) {
+  const Image *img = job->out;
+  return img->data ? &img->data[((size_t)y * img->width + x0) * img->channels] : prow;
+}
+
+static void put_row(const TileJob *job, int x0, int y, int n, const float *prow) {
+  const Image *img = job->out;
+  if (!img->data)
+    image_encode8(prow, &img->data8[((size_t)y * img->width + x0) * img->channels], (size_t)n,
+                  img->channels);
+}
+
 /* One sample a pixel: the sample is the pixel. */
-static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *samp) {
+static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *samp, float *prow) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
   int nc = job->out->channels;       /* 3, or 4 with alpha */
   for (int y = rt->y0; y < rt->y1; y++) {
-    float *o = &job->out->data[((size_t)y * job->f->width + rt->x0) * nc];
+    float *o = row_out(job, rt->x0, y, prow);
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
     shade_row(job, rt, i, rt->x1 - rt->x0, o, nc, bgu, samp);
+    put_row(job, rt->x0, y, rt->x1 - rt->x0, o);
   }
 }
 
 /* Shade the samples of the tile and box-filter each pixel's N x N of them
 ** (premultiplied, over the background) into the output image; rows holds
-** N rows of the tile's samples, 4 floats each; samp a row of ShadeSample. */
-static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeSample *samp) {
+** N rows of the tile's samples, 4 floats each; samp a row of ShadeSample;
+** prow a row of pixels for an 8-bit image. */
+static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeSample *samp,
+                       float *prow) {
   const RenderFrame *f = job->f;
-  int N = f->samples, W = f->width;
-  if (N == 1) { shade_tile_1(job, rt, samp); return; }
+  int N = f->samples;
+  if (N == 1) { shade_tile_1(job, rt, samp, prow); return; }
   Color bg = f->background;
   float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
   float nn = (float)(N * N), inv_nn = 1.0f / nn;
@@ -746,7 +764,7 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, Sh
       int i = (py * N + r - rt->oy) * rt->stride + (rt->x0 - rt->ox);
       shade_row(job, rt, i, n, rows + (size_t)r * n * 4, 4, bgp, samp);
     }
-    float *o = &job->out->data[((size_t)py * W + rt->x0 / N) * nc];
+    float *o = row_out(job, rt->x0 / N, py, prow), *o0 = o;
     for (int px = 0; px < n / N; px++, o += nc) {
       float acc[4] = {0, 0, 0, 0};
       for (int r = 0; r < N; r++) {
@@ -761,6 +779,7 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, Sh
       o[0] = acc[0] * un; o[1] = acc[1] * un; o[2] = acc[2] * un;
       if (nc == 4) o[3] = acc[3] * inv_nn;
     }
+    put_row(job, rt->x0 / N, py, n / N, o0);
   }
 }
 
@@ -783,7 +802,7 @@ static void *tile_worker(void *arg) {
       rast_triangle(bin_tri(b, b->items[i]), &rt);
     }
     double t1 = stats_now();
-    shade_tile(job, &rt, w->rows, w->samp);
+    shade_tile(job, &rt, w->rows, w->samp, w->prow);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
   }
@@ -805,6 +824,7 @@ static void run_workers(TileJob *job, int nthreads) {
     ws[i].samp = xmalloc(side * sizeof *ws[i].samp);
     if (job->f->samples > 1)
       ws[i].rows = xmalloc((size_t)job->f->samples * side * 4 * sizeof *ws[i].rows);
+    ws[i].prow = xmalloc(side * 4 * sizeof *ws[i].prow);
   }
   for (int i = 1; i < nthreads; i++)
     if (pthread_create(&tid[i], NULL, tile_worker, &ws[i]) != 0)
@@ -824,6 +844,7 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].face);
     free(ws[i].bary);
     free(ws[i].rows);
+    free(ws[i].prow);
     free(ws[i].samp);
   }
   free(ws);
@@ -928,9 +949,18 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     render_frame_free(&f);
     return 1;
   }
-  /* RGB over an opaque background (smaller, and PNG encodes it faster) */
-  *out = image_create(f.width, f.height, f.background.a >= 1 ? 3 : 4);
-  gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * (*out)->channels * sizeof(float));
+  /* RGB over an opaque background (smaller, and PNG encodes it faster);
+  ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
+  ** they finish each row, unless origami sheets (composited in float)
+  ** come over it */
+  int nc = f.background.a >= 1 ? 3 : 4;
+  if (o->out8 && s->norigami == 0) {
+    *out = image_create8(f.width, f.height, nc);
+    gbuf_advise_huge((*out)->data8, (size_t)f.width * f.height * nc);
+  } else {
+    *out = image_create(f.width, f.height, nc);
+    gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
+  }
   /* origami composes with meshes through the sample depths, so it needs the G-buffer */
   GBuffer *gbuf = NULL;
   render_frame(&f, o, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);

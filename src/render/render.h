@@ -54,6 +54,7 @@ typedef struct RenderOptions {
   int threads;         /* workers, >= 1; 0 = one per online CPU */
   int stats;           /* the caller prints stats.h's table (stages always record) */
   int samples;         /* 0: the scene's `samples`; else overrides it */
+  int out8;            /* the frame goes to an 8-bit file: render_scene may make it 8-bit */
 } RenderOptions;
 
 /* A light resolved for shading: floats, world space. */

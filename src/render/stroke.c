@@ -420,6 +420,20 @@ static void cover_join(const Band *b, const Stroke *st, int i) {
     }
 }
 
+/* Ink of colour col and coverage a over pixel p (ch channels, alpha at
+** alpha or -1, ncol colour channels). */
+static inline void composite_pixel(float *p, int alpha, int ncol, const float col[3], float a) {
+  if (alpha < 0) {
+    for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
+    return;
+  }
+  /* "over" with unassociated alpha: what shows through is weighted by
+  ** its own alpha, so ink on a transparent pixel keeps its colour */
+  float under = p[alpha] * (1 - a), out = a + under;
+  for (int k = 0; k < ncol; k++) p[k] = out > 0 ? (col[k] * a + p[k] * under) / out : col[k];
+  p[alpha] = out;
+}
+
 /* Composite the band's coverage of st (rows ya..yb, the columns it
 ** touched) over the target, and clear it for the next stroke. */
 static void composite(const Band *b, const Stroke *st, Image *target, int ya, int yb) {
@@ -429,21 +443,16 @@ static void composite(const Band *b, const Stroke *st, Image *target, int ya, in
   for (int y = ya; y <= yb; y++) {
     int r = y - b->y0;
     float *c = &b->cov[(size_t)r * b->w];
-    float *px = target->data + ((size_t)y * target->width) * ch;
+    size_t row = (size_t)y * target->width * ch;
     for (int x = b->lo[r]; x <= b->hi[r]; x++) {
       float a = c[x] * st->opacity;
       c[x] = 0;
       if (a <= 0) continue;
-      float *p = px + (size_t)x * ch;
-      if (alpha < 0) {
-        for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
-        continue;
-      }
-      /* "over" with unassociated alpha: what shows through is weighted by
-      ** its own alpha, so ink on a transparent pixel keeps its colour */
-      float under = p[alpha] * (1 - a), out = a + under;
-      for (int k = 0; k < ncol; k++) p[k] = out > 0 ? (col[k] * a + p[k] * under) / out : col[k];
-      p[alpha] = out;
+      float p8[4], *p = target->data ? target->data + row + (size_t)x * ch : p8;
+      uint8_t *code = target->data8 ? target->data8 + row + (size_t)x * ch : NULL;
+      if (code) image_decode8(code, p, 1, ch);   /* an 8-bit image: mix in linear, encode again */
+      composite_pixel(p, alpha, ncol, col, a);
+      if (code) image_encode8(p, code, 1, ch);
     }
     b->lo[r] = b->w;
     b->hi[r] = -1;
