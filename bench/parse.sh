@@ -5,7 +5,7 @@
 # does no evaluation and loads no image library, so this is the front end alone.
 set -e
 SUMI=${1:-build/sumi}
-DIR=build/bench
+DIR=$(dirname "$SUMI")/bench   # beside the binary: each build dir has its own
 mkdir -p "$DIR"
 SRC="$DIR/parse_10mb.npr"
 [ -f "$SRC" ] || python3 bench/gen_parse.py 10 >"$SRC"

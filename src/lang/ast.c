@@ -22,33 +22,52 @@ static const char *const ast_kind_names[] = {AST_LIST_KINDS(AST_NAME)};
 const char *ast_kind_name(AstKind k) { return k < AST_KIND_COUNT ? ast_kind_names[k] : "?"; }
 
 /* Bytes of a node of kind k: up to the last field the table in ast.h gives
-** that kind, so no node pays for fields it never uses (a number in a long
-** point list costs 32 bytes, a list 72). Readers must keep to the table. */
+** that kind, so no node pays for fields it never uses (a number costs 24
+** bytes, a list 48). Readers must keep to the table. */
 static size_t node_size(AstKind k) {
   switch (k) {
     case AST_NUMBER: case AST_STRING: case AST_COLOR: case AST_BOOL: case AST_UNDEF:
-    case AST_IDENT: case AST_INCLUDE:
+    case AST_IDENT: case AST_INCLUDE: case AST_NUMBERS:
       return offsetof(AstNode, a);
     case AST_UNARY: case AST_ARG: case AST_MEMBER: case AST_BINDING: case AST_PARAM:
     case AST_COMP_EACH: case AST_USE: case AST_LET:
       return offsetof(AstNode, b);
     case AST_BINARY: case AST_INDEX:
       return offsetof(AstNode, c);
-    case AST_RANGE: case AST_TERNARY: case AST_COMP_IF:
-      return offsetof(AstNode, list);
+    case AST_RANGE: case AST_TERNARY: case AST_COMP_IF:   /* b, c */
     case AST_PROGRAM: case AST_LIST: case AST_CALL: case AST_LET_EXPR: case AST_FN_EXPR:
-    case AST_COMP_FOR: case AST_COMP_LET: case AST_FN_DEF: case AST_PROPERTY:
+    case AST_COMP_FOR: case AST_COMP_LET: case AST_FN_DEF: case AST_PROPERTY:   /* list */
       return offsetof(AstNode, list2);
     default:   /* AST_MODULE_DEF, AST_CALL_STMT, AST_FOR, AST_IF, AST_BLOCK */
       return sizeof(AstNode);
   }
 }
 
-AstNode *ast_new(Arena *arena, AstKind kind, SrcRange range) {
+AstNode *ast_new(Arena *arena, AstKind kind, int file, uint32_t start, uint32_t end) {
   AstNode *n = arena_alloc_small(arena, node_size(kind));
   n->kind = (unsigned char)kind;
-  n->range = range;
+  n->file = file;
+  n->start = start;
+  n->end = end;
   return n;
+}
+
+/* The parser checked these tokens when it packed the list: `[`, then the
+** numbers, each a NUMBER or '-' NUMBER, with commas between. */
+void ast_numbers(const AstNode *n, AstNumber *out) {
+  Lexer lx;
+  Token t;
+  lex_init_at(&lx, n->file, n->start);
+  lex_next(&lx, &t);   /* [ */
+  for (int i = 0; i < n->count; i++) {
+    if (i > 0) lex_next(&lx, &t);   /* , */
+    lex_next(&lx, &t);
+    int neg = t.kind == TK_MINUS;
+    out[i].start = (uint32_t)(t.start - lx.src);
+    if (neg) lex_next(&lx, &t);
+    out[i].value = neg ? -t.number : t.number;
+    out[i].end = (uint32_t)(t.start - lx.src) + (uint32_t)t.len;
+  }
 }
 
 /* The shortest %g form that reads back as the same double. */
@@ -123,46 +142,81 @@ static void print_section(const char *label, const AstList *l, int depth, FILE *
   print_list(l, depth + 1, out);
 }
 
+static void print_range(int file, uint32_t start, uint32_t end, FILE *out) {
+  SrcRange r = diag_range(file, start, end);
+  fprintf(out, " @%d:%d-%d:%d\n", r.line, r.col, r.end_line, r.end_col);
+}
+
+/* An AST_NUMBERS list, printed as the list of number nodes it stands for. */
+static void print_numbers(const AstNode *n, int depth, FILE *out) {
+  AstNumber *nums = xmalloc((size_t)n->count * sizeof *nums);
+  ast_numbers(n, nums);
+  for (int i = 0; i < n->count; i++) {
+    fprintf(out, "%*snumber ", depth * 2, "");
+    print_number(nums[i].value, out);
+    print_range(n->file, nums[i].start, nums[i].end, out);
+  }
+  free(nums);
+}
+
 static void print_node(const AstNode *n, int depth, FILE *out) {
   if (!n) { fprintf(out, "%*s(missing)\n", depth * 2, ""); return; }
   fprintf(out, "%*s%s", depth * 2, "", ast_kind_name(n->kind));
   print_detail(n, out);
-  fprintf(out, " @%d:%d-%d:%d\n", n->range.line, n->range.col, n->range.end_line, n->range.end_col);
-  size_t size = node_size(n->kind);   /* read no field past it */
-  if (size <= offsetof(AstNode, a)) return;
-  if (n->kind == AST_RANGE) {   /* start, [step,] end in source order */
-    print_node(n->a, depth + 1, out);
-    if (n->b) print_node(n->b, depth + 1, out);
-    print_node(n->c, depth + 1, out);
-    return;
-  }
-  /* definitions and scopes: their parameters or bindings come first */
-  int list_first = n->kind == AST_FN_DEF || n->kind == AST_FN_EXPR || n->kind == AST_LET_EXPR ||
-                   n->kind == AST_COMP_FOR || n->kind == AST_COMP_LET;
-  if (list_first) print_list(&n->list, depth + 1, out);
-  if (n->kind != AST_USE) { if (n->a) print_node(n->a, depth + 1, out); }
-  else if (n->a) fprintf(out, "%*sas %s\n", (depth + 1) * 2, "", n->a->name);
-  if (size > offsetof(AstNode, b) && n->b) print_node(n->b, depth + 1, out);
-  if (size > offsetof(AstNode, c) && n->c) print_node(n->c, depth + 1, out);
-  if (size <= offsetof(AstNode, list)) return;
-  switch (n->kind) {
+  print_range(n->file, n->start, n->end, out);
+  switch (n->kind) {   /* read no field past the node's end (node_size) */
+    case AST_NUMBER: case AST_STRING: case AST_COLOR: case AST_BOOL: case AST_UNDEF:
+    case AST_IDENT: case AST_INCLUDE:
+      return;
+    case AST_NUMBERS:
+      print_numbers(n, depth + 1, out);
+      return;
+    case AST_RANGE:   /* start, [step,] end in source order */
+      print_node(n->a, depth + 1, out);
+      if (n->b) print_node(n->b, depth + 1, out);
+      print_node(n->c, depth + 1, out);
+      return;
+    case AST_USE:
+      if (n->a) fprintf(out, "%*sas %s\n", (depth + 1) * 2, "", n->a->name);
+      return;
+    case AST_UNARY: case AST_ARG: case AST_MEMBER: case AST_BINDING: case AST_PARAM:
+    case AST_COMP_EACH: case AST_LET:
+      if (n->a) print_node(n->a, depth + 1, out);
+      return;
+    case AST_BINARY: case AST_INDEX:
+      if (n->a) print_node(n->a, depth + 1, out);
+      if (n->b) print_node(n->b, depth + 1, out);
+      return;
+    case AST_TERNARY: case AST_COMP_IF:
+      if (n->a) print_node(n->a, depth + 1, out);
+      if (n->b) print_node(n->b, depth + 1, out);
+      if (n->c) print_node(n->c, depth + 1, out);
+      return;
+    /* definitions and scopes: their parameters or bindings come first */
+    case AST_FN_DEF: case AST_FN_EXPR: case AST_LET_EXPR: case AST_COMP_FOR: case AST_COMP_LET:
+      print_list(&n->list, depth + 1, out);
+      if (n->a) print_node(n->a, depth + 1, out);
+      return;
     case AST_IF:
+      if (n->a) print_node(n->a, depth + 1, out);
       print_section("then", &n->list, depth + 1, out);
       if (n->has_else) print_section("else", &n->list2, depth + 1, out);
-      break;
+      return;
     case AST_FOR: case AST_MODULE_DEF:
       print_list(&n->list, depth + 1, out);
       print_section("body", &n->list2, depth + 1, out);
-      break;
+      return;
     case AST_CALL_STMT:
+      if (n->a) print_node(n->a, depth + 1, out);
       if (n->has_body) print_section("body", &n->list2, depth + 1, out);
-      break;
+      return;
     case AST_BLOCK:   /* list2 holds the words, printed on the header line */
       print_list(&n->list, depth + 1, out);
-      break;
-    default:
-      if (!list_first) print_list(&n->list, depth + 1, out);
-      if (size > offsetof(AstNode, list2)) print_list(&n->list2, depth + 1, out);
+      return;
+    default:   /* AST_PROGRAM, AST_LIST, AST_CALL, AST_PROPERTY */
+      if (n->kind == AST_CALL && n->a) print_node(n->a, depth + 1, out);
+      print_list(&n->list, depth + 1, out);
+      return;
   }
 }
 

@@ -13,6 +13,7 @@
 #define lang_diag_h
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* A source range. file indexes the table of loaded sources (diag_file);
 ** line and col are 1-based and count characters, not bytes; (end_line,
@@ -24,12 +25,20 @@ typedef struct SrcRange {
   int end_line, end_col;
 } SrcRange;
 
+/* A character of more than one byte: where it is, and how many bytes
+** beyond one it and the multibyte characters before it take. */
+typedef struct SrcWide {
+  uint32_t at, extra;
+} SrcWide;
+
 typedef struct SrcFile {
   char *name;          /* as given on the command line or the include path */
   char *text;          /* whole contents, NUL-terminated (may hold NULs: use len) */
   size_t len;
   int *line_start;     /* byte offset of each line's first byte */
   int nlines;
+  SrcWide *wide;       /* the multibyte characters, for columns (diag_range) */
+  int nwide;           /* -1 until diag_range first needs them */
   int included_from;   /* file index of the includer, -1 for the main file */
   SrcRange include_loc;/* where the include statement is */
 } SrcFile;
@@ -67,5 +76,9 @@ int diag_too_many(void);      /* the cap was reached: callers may stop early */
 /* Location helpers */
 SrcRange src_none(void);
 SrcRange src_join(SrcRange a, SrcRange b);   /* from a's start to b's end */
+/* The range of the bytes [start, end) of a loaded file, in lines and
+** columns counted as the lexer counts them. Syntax tree nodes keep the two
+** offsets (8 bytes) rather than a SrcRange (20): ast.h's ast_range. */
+SrcRange diag_range(int file, uint32_t start, uint32_t end);
 
 #endif

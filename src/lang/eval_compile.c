@@ -208,33 +208,33 @@ static ENode *compile_member(Compiler *c, AstNode *a) {
       Namespace *ns = s->b[i].ns;
       const char *m = ev_intern(c->ev, a->name);
       int slot = ns ? scope_find(ns->scope, m) : -1;
-      if (!ns) return const_node(c, val_err(), a->range);
+      if (!ns) return const_node(c, val_err(), ast_range(a));
       if (slot < 0) {
         const char **cands = NULL;
         int n = 0, cap = 0;
         collect_names(ns->scope, &cands, &n, &cap);
         const char *sug = suggest_name(m, cands, n);
-        if (sug) diag_error(a->range, "`%s` has no `%s`; did you mean `%s`?", name, m, sug);
-        else diag_error(a->range, "`%s` has no `%s`", name, m);
+        if (sug) diag_error(ast_range(a), "`%s` has no `%s`; did you mean `%s`?", name, m, sug);
+        else diag_error(ast_range(a), "`%s` has no `%s`", name, m);
         free(cands);
-        return const_node(c, val_err(), a->range);
+        return const_node(c, val_err(), ast_range(a));
       }
-      ENode *e = enode(c, E_NSREF, a->range);
+      ENode *e = enode(c, E_NSREF, ast_range(a));
       e->ns = ns;
       e->slot = slot;
       e->name = m;
       return e;
     }
   }
-  ENode *e = enode(c, E_MEMBER, a->range);
+  ENode *e = enode(c, E_MEMBER, ast_range(a));
   e->a = compile_expr(c, base);
   e->name = ev_intern(c->ev, a->name);
   return e;
 }
 
 static ENode *compile_call(Compiler *c, AstNode *a, int want_module) {
-  ENode *e = enode(c, E_CALL, a->range);
-  if (a->a && a->a->kind == AST_IDENT) e->a = compile_ident(c, a->a->name, a->a->range, want_module);
+  ENode *e = enode(c, E_CALL, ast_range(a));
+  if (a->a && a->a->kind == AST_IDENT) e->a = compile_ident(c, a->a->name, ast_range(a->a), want_module);
   else e->a = compile_expr(c, a->a);
   e->n = a->list.count;
   e->kids = kids_of(c, e->n);
@@ -243,7 +243,7 @@ static ENode *compile_call(Compiler *c, AstNode *a, int want_module) {
   e->argloc = arena_alloc(c->ev->ast_arena, (size_t)(e->n + 1) * sizeof *e->argloc);
   for (int i = 0; i < e->n; i++) {
     AstNode *arg = a->list.items[i];
-    e->argloc[i] = arg->range;
+    e->argloc[i] = ast_range(arg);
     e->kids[i] = compile_expr(c, arg->kind == AST_ARG ? arg->a : arg);
     e->names[i] = arg->kind == AST_ARG && arg->name ? ev_intern(c->ev, arg->name) : NULL;
     if (e->names[i]) e->simple = 0;
@@ -259,12 +259,12 @@ static void compile_bindings(Compiler *c, AstList *l, ENode *e, BindKind kind) {
   for (int i = 0; i < l->count; i++) {
     AstNode *b = l->items[i];
     e->kids[i] = compile_expr(c, b->a);
-    scope_add(c, c->scope, ev_intern(c->ev, b->name), kind, b->range);
+    scope_add(c, c->scope, ev_intern(c->ev, b->name), kind, ast_range(b));
   }
 }
 
 static ENode *compile_scoped(Compiler *c, AstNode *a, EOp op, BindKind kind) {
-  ENode *e = enode(c, op, a->range);
+  ENode *e = enode(c, op, ast_range(a));
   Scope *saved = c->scope;
   c->scope = e->scope = scope_new(c, saved);
   compile_bindings(c, &a->list, e, kind);
@@ -291,7 +291,7 @@ static void compile_params(Compiler *c, FnDef *d, AstList *params) {
     AstNode *p = params->items[i];
     d->pnames[i] = ev_intern(c->ev, p->name);
     d->defaults[i] = p->a ? compile_expr(c, p->a) : NULL;
-    scope_add(c, d->scope, d->pnames[i], B_PARAM, p->range);
+    scope_add(c, d->scope, d->pnames[i], B_PARAM, ast_range(p));
     d->scope->b[i].used = 1;   /* unused parameters are not worth a warning */
   }
 }
@@ -310,10 +310,24 @@ static void compile_fn_body(Compiler *c, FnDef *d, AstNode *a) {
 }
 
 static ENode *compile_list(Compiler *c, AstNode *a) {
-  ENode *e = enode(c, E_LIST, a->range);
+  ENode *e = enode(c, E_LIST, ast_range(a));
   e->n = a->list.count;
   e->kids = kids_of(c, e->n);
   for (int i = 0; i < e->n; i++) e->kids[i] = compile_expr(c, a->list.items[i]);
+  return e;
+}
+
+/* A list of plain numbers, read back from its source (ast.h's AST_NUMBERS):
+** the same E_LIST of constants as compile_list makes of number nodes. */
+static ENode *compile_numbers(Compiler *c, AstNode *a) {
+  ENode *e = enode(c, E_LIST, ast_range(a));
+  e->n = a->count;
+  e->kids = kids_of(c, e->n);
+  AstNumber *nums = xmalloc((size_t)e->n * sizeof *nums);
+  ast_numbers(a, nums);
+  for (int i = 0; i < e->n; i++)
+    e->kids[i] = const_node(c, val_num(nums[i].value), diag_range(a->file, nums[i].start, nums[i].end));
+  free(nums);
   return e;
 }
 
@@ -327,11 +341,11 @@ static const EOp binary_ops[TK_COUNT] = {
 static ENode *compile_unary(Compiler *c, AstNode *a) {
   ENode *inner = compile_expr(c, a->a);
   if (a->op == TK_PLUS) return inner;
-  ENode *e = enode(c, a->op == TK_NOT ? E_NOT : E_NEG, a->range);
+  ENode *e = enode(c, a->op == TK_NOT ? E_NOT : E_NEG, ast_range(a));
   e->a = inner;
   /* fold -literal, so negative constants cost nothing */
   if (e->op == E_NEG && inner->op == E_CONST && inner->k.kind == V_NUM)
-    return const_node(c, val_num(-inner->k.u.n), a->range);
+    return const_node(c, val_num(-inner->k.u.n), ast_range(a));
   return e;
 }
 
@@ -339,36 +353,37 @@ static ENode *compile_expr(Compiler *c, AstNode *a) {
   if (!a) return const_node(c, val_err(), src_none());
   ENode *e;
   switch (a->kind) {
-  case AST_NUMBER: return const_node(c, val_num(a->number), a->range);
-  case AST_BOOL: return const_node(c, val_bool(a->number != 0), a->range);
-  case AST_UNDEF: return const_node(c, val_undef(), a->range);
-  case AST_STRING: return const_node(c, ev_str(c->ev, a->name, (int)strlen(a->name)), a->range);
+  case AST_NUMBER: return const_node(c, val_num(a->number), ast_range(a));
+  case AST_BOOL: return const_node(c, val_bool(a->number != 0), ast_range(a));
+  case AST_UNDEF: return const_node(c, val_undef(), ast_range(a));
+  case AST_STRING: return const_node(c, ev_str(c->ev, a->name, (int)strlen(a->name)), ast_range(a));
   case AST_COLOR:
     return const_node(c, ev_color(c->ev, val_srgb_to_linear(a->color[0]), val_srgb_to_linear(a->color[1]),
-                                  val_srgb_to_linear(a->color[2]), a->color[3]), a->range);
-  case AST_IDENT: return compile_ident(c, a->name, a->range, 0);
+                                  val_srgb_to_linear(a->color[2]), a->color[3]), ast_range(a));
+  case AST_IDENT: return compile_ident(c, a->name, ast_range(a), 0);
   case AST_LIST: return compile_list(c, a);
+  case AST_NUMBERS: return compile_numbers(c, a);
   case AST_RANGE:
-    e = enode(c, E_RANGE, a->range);
+    e = enode(c, E_RANGE, ast_range(a));
     e->a = compile_expr(c, a->a);
     e->b = a->b ? compile_expr(c, a->b) : NULL;
     e->c = compile_expr(c, a->c);
     return e;
   case AST_UNARY: return compile_unary(c, a);
   case AST_BINARY:
-    e = enode(c, binary_ops[a->op], a->range);
+    e = enode(c, binary_ops[a->op], ast_range(a));
     e->a = compile_expr(c, a->a);
     e->b = compile_expr(c, a->b);
     return e;
   case AST_TERNARY: case AST_COMP_IF:
-    e = enode(c, a->kind == AST_TERNARY ? E_TERNARY : E_COMP_IF, a->range);
+    e = enode(c, a->kind == AST_TERNARY ? E_TERNARY : E_COMP_IF, ast_range(a));
     e->a = compile_expr(c, a->a);
     e->b = compile_expr(c, a->b);
     e->c = a->c ? compile_expr(c, a->c) : NULL;
     return e;
   case AST_CALL: return compile_call(c, a, 0);
   case AST_INDEX:
-    e = enode(c, E_INDEX, a->range);
+    e = enode(c, E_INDEX, ast_range(a));
     e->a = compile_expr(c, a->a);
     e->b = compile_expr(c, a->b);
     return e;
@@ -377,18 +392,18 @@ static ENode *compile_expr(Compiler *c, AstNode *a) {
   case AST_COMP_FOR: return compile_scoped(c, a, E_COMP_FOR, B_LOOP);
   case AST_COMP_LET: return compile_scoped(c, a, E_COMP_LET, B_LET);
   case AST_COMP_EACH:
-    e = enode(c, E_COMP_EACH, a->range);
+    e = enode(c, E_COMP_EACH, ast_range(a));
     e->a = compile_expr(c, a->a);
     return e;
   case AST_FN_EXPR:
-    e = enode(c, E_FN, a->range);
+    e = enode(c, E_FN, ast_range(a));
     scope_mark_heap(c->scope);
-    e->def = fn_new(c, NULL, &a->list, a->range);
+    e->def = fn_new(c, NULL, &a->list, ast_range(a));
     compile_fn_body(c, e->def, a);
     return e;
   default:
-    diag_error(a->range, "a %s cannot be used as a value", ast_kind_name(a->kind));
-    return const_node(c, val_err(), a->range);
+    diag_error(ast_range(a), "a %s cannot be used as a value", ast_kind_name(a->kind));
+    return const_node(c, val_err(), ast_range(a));
   }
 }
 
@@ -467,20 +482,20 @@ static int include_cycle(Compiler *c, const char *real, SrcRange at) {
 static int load_source(Compiler *c, AstNode *a, char *real, AstNode **prog) {
   char path[4096];
   if (!find_include(c, a->name, path, sizeof path)) {
-    diag_error(a->range, "cannot find `%s` (searched beside the file, -I folders, SUMI_PATH and the stdlib)", a->name);
+    diag_error(ast_range(a), "cannot find `%s` (searched beside the file, -I folders, SUMI_PATH and the stdlib)", a->name);
     return -1;
   }
   if (!realpath(path, real)) snprintf(real, PATH_MAX, "%s", path);
-  if (include_cycle(c, real, a->range)) return -1;
+  if (include_cycle(c, real, ast_range(a))) return -1;
   if (a->kind == AST_INCLUDE && already_included(c->ev, real)) return -2;
   if (c->chain->n >= EVAL_MAX_INCLUDE_DEPTH) {
-    diag_error(a->range, "includes nested deeper than %d files", EVAL_MAX_INCLUDE_DEPTH);
+    diag_error(ast_range(a), "includes nested deeper than %d files", EVAL_MAX_INCLUDE_DEPTH);
     return -1;
   }
   const char *why = NULL;
-  int f = diag_load_file(path, c->file, a->range, &why);
+  int f = diag_load_file(path, c->file, ast_range(a), &why);
   if (f < 0) {
-    diag_error(a->range, "cannot read `%s`: %s", path, why ? why : "unknown error");
+    diag_error(ast_range(a), "cannot read `%s`: %s", path, why ? why : "unknown error");
     return -1;
   }
   *prog = parse_file(f, c->ev->ast_arena);
@@ -580,8 +595,8 @@ static void declare(Compiler *c, Scope *s, AstNode *a, ENode **slot_of, FnDef **
   int slot;
   switch (a->kind) {
   case AST_LET:
-    slot = scope_add(c, s, ev_intern(c->ev, a->name), B_LET, a->range);
-    *slot_of = enode(c, S_LET, a->range);
+    slot = scope_add(c, s, ev_intern(c->ev, a->name), B_LET, ast_range(a));
+    *slot_of = enode(c, S_LET, ast_range(a));
     (*slot_of)->slot = slot;
     (*slot_of)->name = s->b[slot].name;
     s->b[slot].let = *slot_of;
@@ -590,9 +605,9 @@ static void declare(Compiler *c, Scope *s, AstNode *a, ENode **slot_of, FnDef **
     int is_mod = a->kind == AST_MODULE_DEF;
     name = ev_intern(c->ev, a->name);
     if (builtin_index(name) >= 0)
-      diag_warning(a->range, "%s `%s` shadows the builtin of the same name", is_mod ? "module" : "function", name);
-    slot = scope_add(c, s, name, is_mod ? B_MODULE : B_FN, a->range);
-    FnDef *d = fn_new(c, a->name, &a->list, a->range);
+      diag_warning(ast_range(a), "%s `%s` shadows the builtin of the same name", is_mod ? "module" : "function", name);
+    slot = scope_add(c, s, name, is_mod ? B_MODULE : B_FN, ast_range(a));
+    FnDef *d = fn_new(c, a->name, &a->list, ast_range(a));
     d->is_module = is_mod;
     s->b[slot].def = d;
     *def = d;
@@ -602,13 +617,13 @@ static void declare(Compiler *c, Scope *s, AstNode *a, ENode **slot_of, FnDef **
   }
   case AST_USE:
     if (!a->a) break;
-    slot = scope_add(c, s, ev_intern(c->ev, a->a->name), B_NAMESPACE, a->a->range);
+    slot = scope_add(c, s, ev_intern(c->ev, a->a->name), B_NAMESPACE, ast_range(a->a));
     s->b[slot].ns = compile_namespace(c, a);
     break;
   case AST_BLOCK:
     if (!declares(a)) break;
-    slot = scope_add(c, s, ev_intern(c->ev, a->list2.items[0]->name), B_STYLE, a->list2.items[0]->range);
-    *slot_of = enode(c, S_BLOCK, a->range);
+    slot = scope_add(c, s, ev_intern(c->ev, a->list2.items[0]->name), B_STYLE, ast_range(a->list2.items[0]));
+    *slot_of = enode(c, S_BLOCK, ast_range(a));
     (*slot_of)->slot = slot;
     break;
   default: break;
@@ -622,7 +637,7 @@ static Body *body_of(Compiler *c, AstList *items) {
 }
 
 static ENode *compile_for(Compiler *c, AstNode *a) {
-  ENode *e = enode(c, S_FOR, a->range);
+  ENode *e = enode(c, S_FOR, ast_range(a));
   Scope *saved = c->scope;
   c->scope = e->scope = scope_new(c, saved);
   compile_bindings(c, &a->list, e, B_LOOP);
@@ -633,7 +648,7 @@ static ENode *compile_for(Compiler *c, AstNode *a) {
 }
 
 static ENode *compile_property(Compiler *c, AstNode *a) {
-  ENode *e = enode(c, S_PROP, a->range);
+  ENode *e = enode(c, S_PROP, ast_range(a));
   e->name = ev_intern(c->ev, a->name);
   e->n = a->list.count;
   e->kids = kids_of(c, e->n);
@@ -643,9 +658,9 @@ static ENode *compile_property(Compiler *c, AstNode *a) {
     if (sym && v->kind == AST_IDENT) {
       Symbol *s = arena_alloc(c->ev->arena, sizeof *s);
       s->name = ev_intern(c->ev, v->name);
-      e->kids[i] = const_node(c, val_ptr(V_SYMBOL, s), v->range);
+      e->kids[i] = const_node(c, val_ptr(V_SYMBOL, s), ast_range(v));
     } else if (sym && v->kind == AST_CALL && v->a && v->a->kind == AST_IDENT) {
-      ENode *sc = enode(c, E_SYMCALL, v->range);   /* crease(40): a symbol with arguments */
+      ENode *sc = enode(c, E_SYMCALL, ast_range(v));   /* crease(40): a symbol with arguments */
       sc->name = ev_intern(c->ev, v->a->name);
       sc->n = v->list.count;
       sc->kids = kids_of(c, sc->n);
@@ -660,16 +675,16 @@ static ENode *compile_property(Compiler *c, AstNode *a) {
 }
 
 static ENode *compile_block(Compiler *c, AstNode *a, ENode *pre) {
-  ENode *e = pre ? pre : enode(c, S_BLOCK, a->range);
+  ENode *e = pre ? pre : enode(c, S_BLOCK, ast_range(a));
   if (!pre) e->slot = -1;
-  e->range = a->range;
+  e->range = ast_range(a);
   e->name = ev_intern(c->ev, a->name);
   e->nwords = a->list2.count;
   e->words = arena_alloc(c->ev->ast_arena, (size_t)(e->nwords + 1) * sizeof *e->words);
   e->wordloc = arena_alloc(c->ev->ast_arena, (size_t)(e->nwords + 1) * sizeof *e->wordloc);
   for (int i = 0; i < e->nwords; i++) {
     e->words[i] = ev_intern(c->ev, a->list2.items[i]->name);
-    e->wordloc[i] = a->list2.items[i]->range;
+    e->wordloc[i] = ast_range(a->list2.items[i]);
   }
   const char *bk = c->block_kind, *bw = c->block_word;
   c->block_kind = e->name;
@@ -681,10 +696,10 @@ static ENode *compile_block(Compiler *c, AstNode *a, ENode *pre) {
 }
 
 static ENode *compile_call_stmt(Compiler *c, AstNode *a) {
-  ENode *e = enode(c, S_CALL, a->range);
+  ENode *e = enode(c, S_CALL, ast_range(a));
   if (!a->a || a->a->kind != AST_CALL) {
-    diag_error(a->range, "expected a module call");
-    return enode(c, S_NOP, a->range);
+    diag_error(ast_range(a), "expected a module call");
+    return enode(c, S_NOP, ast_range(a));
   }
   e->a = compile_call(c, a->a, 1);
   e->body = a->has_body ? body_of(c, &a->list2) : NULL;
@@ -698,7 +713,7 @@ static ENode *compile_item(Compiler *c, AstNode *a, ENode *pre) {
     pre->a = compile_expr(c, a->a);
     return pre;
   case AST_FN_DEF: case AST_MODULE_DEF: case AST_USE: {
-    e = enode(c, a->kind == AST_USE ? S_USE : S_NOP, a->range);
+    e = enode(c, a->kind == AST_USE ? S_USE : S_NOP, ast_range(a));
     if (a->kind == AST_USE) {
       int i = a->a ? scope_find(c->scope, ev_intern(c->ev, a->a->name)) : -1;
       e->ns = i >= 0 ? c->scope->b[i].ns : NULL;
@@ -707,7 +722,7 @@ static ENode *compile_item(Compiler *c, AstNode *a, ENode *pre) {
   }
   case AST_FOR: return compile_for(c, a);
   case AST_IF:
-    e = enode(c, S_IF, a->range);
+    e = enode(c, S_IF, ast_range(a));
     e->a = compile_expr(c, a->a);
     e->body = body_of(c, &a->list);
     e->body2 = a->has_else ? body_of(c, &a->list2) : NULL;
@@ -716,8 +731,8 @@ static ENode *compile_item(Compiler *c, AstNode *a, ENode *pre) {
   case AST_PROPERTY: return compile_property(c, a);
   case AST_CALL_STMT: return compile_call_stmt(c, a);
   default:
-    diag_error(a->range, "a %s cannot stand as a statement", ast_kind_name(a->kind));
-    return enode(c, S_NOP, a->range);
+    diag_error(ast_range(a), "a %s cannot stand as a statement", ast_kind_name(a->kind));
+    return enode(c, S_NOP, ast_range(a));
   }
 }
 

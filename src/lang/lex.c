@@ -137,6 +137,17 @@ void lex_init(Lexer *lx, int file, Arena *arena) {
   }
 }
 
+void lex_init_at(Lexer *lx, int file, uint32_t at) {
+  const SrcFile *f = diag_file(file);
+  memset(lx, 0, sizeof *lx);
+  lx->file = file;
+  lx->src = f->text;
+  lx->end = f->text + f->len;
+  lx->p = lx->src + at;
+  lx->line = lx->col = 1;
+  lx->quiet = 1;
+}
+
 void lex_free(Lexer *lx) {
   if (!lx->names) return;
   free(lx->names->slots);

@@ -8,6 +8,8 @@
 #ifndef lang_lex_h
 #define lang_lex_h
 
+#include <stdint.h>
+
 #include "../base/mem.h"
 #include "diag.h"
 
@@ -60,6 +62,10 @@ typedef struct Lexer {
 /* The source must end in a NUL byte (diag_add_file's contract): the lexer
 ** reads one byte past a character without checking for the end. */
 void lex_init(Lexer *lx, int file, Arena *arena);
+/* A quiet lexer from byte offset `at` of the file, with no arena and no
+** name table: only for reading back tokens known to be numbers and
+** punctuation (ast.c's ast_numbers). Its lines and columns mean nothing. */
+void lex_init_at(Lexer *lx, int file, uint32_t at);
 /* Free the name table; the names themselves live in the arena. */
 void lex_free(Lexer *lx);
 /* Scan the next token into *t. Errors are reported and give TK_ERROR. */

@@ -23,6 +23,7 @@ typedef struct Parser {
   Token next;         /* one token of lookahead, valid when has_next */
   int has_next;
   SrcRange prev_end;  /* end of the last consumed token (for "expected `;`") */
+  uint32_t prev_end_at;   /* the same as a byte offset, where nodes end */
   int prev_bad;       /* the last consumed token had a lexical error */
   Arena *arena;
   int depth;
@@ -31,12 +32,18 @@ typedef struct Parser {
   int errors;
   AstNode **scratch;  /* children of the lists being built, innermost on top */
   int nscratch, capscratch;
+  AstNumber *nums;    /* the numbers of a list while they are all lone ones (parse_list) */
+  int nnums, capnums;
 } Parser;
 
 /* ---- tokens ------------------------------------------------------------ */
 
+/* Byte offset of a token in the source. */
+static uint32_t offset_of(const Parser *p, const Token *t) { return (uint32_t)(t->start - p->lx.src); }
+
 static void next_token(Parser *p) {
   p->prev_end = p->cur.range;
+  p->prev_end_at = offset_of(p, &p->cur) + (uint32_t)p->cur.len;
   p->prev_end.line = p->cur.range.end_line;
   p->prev_end.col = p->cur.range.end_col;
   p->prev_end.end_col = p->prev_end.col + 1;
@@ -123,7 +130,16 @@ static int enter(Parser *p, SrcRange at) {
 
 static void leave(Parser *p) { p->depth--; }
 
-static AstNode *node(Parser *p, AstKind k, SrcRange r) { return ast_new(p->arena, k, r); }
+/* A node over the current token. */
+static AstNode *node(Parser *p, AstKind k) {
+  uint32_t at = offset_of(p, &p->cur);
+  return ast_new(p->arena, k, p->lx.file, at, at + (uint32_t)p->cur.len);
+}
+
+/* A node from byte offset start to the end of the last token consumed. */
+static AstNode *node_from(Parser *p, AstKind k, uint32_t start) {
+  return ast_new(p->arena, k, p->lx.file, start, p->prev_end_at);
+}
 
 /* Lists are gathered on a scratch stack and copied into the arena at their
 ** exact size when complete: begin_list() marks the start, push() adds a
@@ -147,12 +163,8 @@ static void end_list(Parser *p, int mark, AstList *out) {
   p->nscratch = mark;
 }
 
-static SrcRange span_from(Parser *p, SrcRange start) {
-  SrcRange r = start;
-  r.end_line = p->prev_end.line;
-  r.end_col = p->prev_end.col;
-  return r;
-}
+/* Stretch n to the end of the last token consumed. */
+static void end_node(Parser *p, AstNode *n) { n->end = p->prev_end_at; }
 
 /* ---- expressions ------------------------------------------------------ */
 
@@ -161,17 +173,17 @@ static AstNode *parse_unary(Parser *p);
 static AstNode *parse_list_elem(Parser *p);
 
 /* A placeholder for an expression that failed to parse. */
-static AstNode *bad_expr(Parser *p) { return node(p, AST_UNDEF, p->cur.range); }
+static AstNode *bad_expr(Parser *p) { return node(p, AST_UNDEF); }
 
 /* binding := IDENT '=' expr */
 static AstNode *parse_binding(Parser *p) {
-  AstNode *b = node(p, AST_BINDING, p->cur.range);
+  AstNode *b = node(p, AST_BINDING);
   if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a name to bind)"); return NULL; }
   b->name = p->cur.string;
   next_token(p);
   expect(p, TK_ASSIGN, "after the name");
   b->a = parse_expr(p);
-  b->range = span_from(p, b->range);
+  end_node(p, b);
   return b;
 }
 
@@ -192,11 +204,11 @@ static void parse_params(Parser *p, AstList *out) {
   int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
     if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a parameter name)"); return; }
-    AstNode *prm = node(p, AST_PARAM, p->cur.range);
+    AstNode *prm = node(p, AST_PARAM);
     prm->name = p->cur.string;
     next_token(p);
     if (accept(p, TK_ASSIGN)) prm->a = parse_expr(p);
-    prm->range = span_from(p, prm->range);
+    end_node(p, prm);
     push(p, prm);
     if (!accept(p, TK_COMMA)) break;
   }
@@ -208,14 +220,14 @@ static void parse_params(Parser *p, AstList *out) {
 static void parse_args(Parser *p, AstList *out, SrcRange open) {
   int mark = begin_list(p);
   while (!check(p, TK_RPAREN) && !p->panic && !p->stop) {
-    AstNode *arg = node(p, AST_ARG, p->cur.range);
+    AstNode *arg = node(p, AST_ARG);
     if (check(p, TK_IDENT) && peek(p)->kind == TK_ASSIGN) {
       arg->name = p->cur.string;
       next_token(p);
       next_token(p);
     }
     arg->a = parse_expr(p);
-    arg->range = span_from(p, arg->range);
+    end_node(p, arg);
     push(p, arg);
     if (!accept(p, TK_COMMA)) break;
   }
@@ -223,33 +235,67 @@ static void parse_args(Parser *p, AstList *out, SrcRange open) {
   expect_close(p, TK_RPAREN, open, "argument list");
 }
 
+static int lone_number(Parser *p, AstNumber *out);
+
+static AstNode *number_node(Parser *p, const AstNumber *num) {
+  AstNode *n = ast_new(p->arena, AST_NUMBER, p->lx.file, num->start, num->end);
+  n->number = num->value;
+  return n;
+}
+
+/* Read a lone number (see lone_number) onto p->nums. 0, having consumed
+** nothing, when the next element is something else. */
+static int take_number(Parser *p) {
+  AstNumber num;
+  if (!lone_number(p, &num)) return 0;
+  p->nums = xgrow(p->nums, &p->capnums, p->nnums + 1, sizeof *p->nums);
+  p->nums[p->nnums++] = num;
+  return 1;
+}
+
+/* Turn the numbers on p->nums into nodes on the scratch stack. */
+static void flush_numbers(Parser *p) {
+  for (int i = 0; i < p->nnums; i++) push(p, number_node(p, &p->nums[i]));
+  p->nnums = 0;
+}
+
 /* list := '[' ']' | '[' expr ':' expr [ ':' expr ] ']'
-**       | '[' list_elem { ',' list_elem } [','] ']' */
+**       | '[' list_elem { ',' list_elem } [','] ']'
+** A list of lone numbers only, most of any point data, becomes one
+** AST_NUMBERS node: the numbers wait on p->nums (empty when a list starts:
+** a list takes nested elements only after flushing its own) and are
+** dropped, as the node reads them back from the source when asked. */
 static AstNode *parse_list(Parser *p) {
   SrcRange open = p->cur.range;
+  uint32_t start = offset_of(p, &p->cur);
   next_token(p);
-  AstNode *l = node(p, AST_LIST, open);
-  if (accept(p, TK_RBRACKET)) { l->range = span_from(p, open); return l; }
-  AstNode *first = parse_list_elem(p);
-  if (check(p, TK_COLON) && first && first->kind < AST_COMP_FOR) {
-    AstNode *r = node(p, AST_RANGE, open);
+  if (accept(p, TK_RBRACKET)) return node_from(p, AST_LIST, start);
+  int packed = take_number(p);   /* every element so far is on p->nums */
+  AstNode *first = packed ? NULL : parse_list_elem(p);
+  if (check(p, TK_COLON) && (packed || (first && first->kind < AST_COMP_FOR))) {
+    if (packed) { first = number_node(p, &p->nums[0]); p->nnums = 0; }
+    AstNode *r = node_from(p, AST_RANGE, start);
     next_token(p);
     r->a = first;
     r->c = parse_expr(p);
     if (accept(p, TK_COLON)) { r->b = r->c; r->c = parse_expr(p); }
     expect_close(p, TK_RBRACKET, open, "range");
-    r->range = span_from(p, open);
+    end_node(p, r);
     return r;
   }
   int mark = begin_list(p);
   push(p, first);
   while (accept(p, TK_COMMA) && !p->panic && !p->stop) {
     if (check(p, TK_RBRACKET)) break;
+    if (packed && take_number(p)) continue;
+    if (packed) { flush_numbers(p); packed = 0; }
     push(p, parse_list_elem(p));
   }
-  end_list(p, mark, &l->list);
+  AstNode *l = node_from(p, packed ? AST_NUMBERS : AST_LIST, start);
+  if (packed) { l->count = p->nnums; p->nnums = 0; }
+  else end_list(p, mark, &l->list);
   expect_close(p, TK_RBRACKET, open, "list");
-  l->range = span_from(p, open);
+  end_node(p, l);
   return l;
 }
 
@@ -259,11 +305,11 @@ static AstNode *parse_list(Parser *p) {
 **            | 'let' '(' bindings ')' list_elem
 **            | expr */
 static AstNode *parse_list_elem(Parser *p) {
-  SrcRange start = p->cur.range;
-  if (!enter(p, start)) return bad_expr(p);
+  uint32_t start = offset_of(p, &p->cur);
+  if (!enter(p, p->cur.range)) return bad_expr(p);
   AstNode *n;
   if (check(p, TK_FOR) || check(p, TK_LET)) {
-    n = node(p, check(p, TK_FOR) ? AST_COMP_FOR : AST_COMP_LET, start);
+    n = node(p, check(p, TK_FOR) ? AST_COMP_FOR : AST_COMP_LET);
     next_token(p);
     SrcRange open = p->cur.range;
     expect(p, TK_LPAREN, n->kind == AST_COMP_FOR ? "after `for`" : "after `let`");
@@ -271,7 +317,7 @@ static AstNode *parse_list_elem(Parser *p) {
     expect_close(p, TK_RPAREN, open, n->kind == AST_COMP_FOR ? "`for` bindings" : "`let` bindings");
     n->a = parse_list_elem(p);
   } else if (accept(p, TK_IF)) {
-    n = node(p, AST_COMP_IF, start);
+    n = node_from(p, AST_COMP_IF, start);
     SrcRange open = p->cur.range;
     expect(p, TK_LPAREN, "after `if`");
     n->a = parse_expr(p);
@@ -279,13 +325,13 @@ static AstNode *parse_list_elem(Parser *p) {
     n->b = parse_list_elem(p);
     if (accept(p, TK_ELSE)) n->c = parse_list_elem(p);
   } else if (accept(p, TK_EACH)) {
-    n = node(p, AST_COMP_EACH, start);
+    n = node_from(p, AST_COMP_EACH, start);
     n->a = parse_expr(p);
   } else {
     leave(p);
     return parse_expr(p);
   }
-  n->range = span_from(p, start);
+  end_node(p, n);
   leave(p);
   return n;
 }
@@ -297,12 +343,13 @@ static AstNode *parse_list_elem(Parser *p) {
 static AstNode *parse_primary(Parser *p) {
   const Token *t = &p->cur;   /* read before next_token replaces it */
   SrcRange at = t->range;
+  uint32_t start = offset_of(p, t);
   AstNode *n;
   switch (t->kind) {
-    case TK_NUMBER: n = node(p, AST_NUMBER, at); n->number = t->number; next_token(p); return n;
-    case TK_STRING: n = node(p, AST_STRING, at); n->name = t->string; next_token(p); return n;
+    case TK_NUMBER: n = node(p, AST_NUMBER); n->number = t->number; next_token(p); return n;
+    case TK_STRING: n = node(p, AST_STRING); n->name = t->string; next_token(p); return n;
     case TK_COLOR: {
-      n = node(p, AST_COLOR, at);
+      n = node(p, AST_COLOR);
       float *rgba = arena_alloc_small(p->arena, sizeof t->color);
       memcpy(rgba, t->color, sizeof t->color);
       n->color = rgba;
@@ -310,9 +357,9 @@ static AstNode *parse_primary(Parser *p) {
       return n;
     }
     case TK_TRUE: case TK_FALSE:
-      n = node(p, AST_BOOL, at); n->number = t->kind == TK_TRUE; next_token(p); return n;
-    case TK_UNDEF: next_token(p); return node(p, AST_UNDEF, at);
-    case TK_IDENT: n = node(p, AST_IDENT, at); n->name = t->string; next_token(p); return n;
+      n = node(p, AST_BOOL); n->number = t->kind == TK_TRUE; next_token(p); return n;
+    case TK_UNDEF: n = node(p, AST_UNDEF); next_token(p); return n;
+    case TK_IDENT: n = node(p, AST_IDENT); n->name = t->string; next_token(p); return n;
     case TK_LPAREN:
       next_token(p);
       n = parse_expr(p);
@@ -321,22 +368,22 @@ static AstNode *parse_primary(Parser *p) {
     case TK_LBRACKET: return parse_list(p);
     case TK_LET: {
       next_token(p);
-      n = node(p, AST_LET_EXPR, at);
+      n = node_from(p, AST_LET_EXPR, start);
       SrcRange open = p->cur.range;
       expect(p, TK_LPAREN, "after `let` in an expression");
       parse_bindings(p, &n->list);
       expect_close(p, TK_RPAREN, open, "`let` bindings");
       n->a = parse_expr(p);
-      n->range = span_from(p, at);
+      end_node(p, n);
       return n;
     }
     case TK_FN:
       next_token(p);
-      n = node(p, AST_FN_EXPR, at);
+      n = node_from(p, AST_FN_EXPR, start);
       parse_params(p, &n->list);
       expect(p, TK_ASSIGN, "before the body of a function literal");
       n->a = parse_expr(p);
-      n->range = span_from(p, at);
+      end_node(p, n);
       return n;
     default:
       if (t->bad) p->panic = 1;   /* the lexer already reported it */
@@ -347,34 +394,34 @@ static AstNode *parse_primary(Parser *p) {
 
 /* postfix := primary { '(' args ')' | '[' expr ']' | '.' IDENT } */
 static AstNode *parse_postfix(Parser *p) {
-  SrcRange start = p->cur.range;
+  uint32_t start = offset_of(p, &p->cur);
   AstNode *e = parse_primary(p);
   for (;;) {
     TokenKind k = p->cur.kind;
     if (p->panic || p->stop || (k != TK_LPAREN && k != TK_LBRACKET && k != TK_DOT)) return e;
     SrcRange at = p->cur.range;   /* of the bracket (read only then: most primaries stand alone) */
     if (accept(p, TK_LPAREN)) {
-      AstNode *call = node(p, AST_CALL, start);
+      AstNode *call = node_from(p, AST_CALL, start);
       call->a = e;
       if (!enter(p, at)) return e;
       parse_args(p, &call->list, at);
       leave(p);
-      call->range = span_from(p, start);
+      end_node(p, call);
       e = call;
     } else if (accept(p, TK_LBRACKET)) {
-      AstNode *ix = node(p, AST_INDEX, start);
+      AstNode *ix = node_from(p, AST_INDEX, start);
       ix->a = e;
       ix->b = parse_expr(p);
       expect_close(p, TK_RBRACKET, at, "index");
-      ix->range = span_from(p, start);
+      end_node(p, ix);
       e = ix;
     } else if (accept(p, TK_DOT)) {
-      AstNode *m = node(p, AST_MEMBER, start);
+      AstNode *m = node_from(p, AST_MEMBER, start);
       m->a = e;
       if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "after `.`"); return e; }
       m->name = p->cur.string;
       next_token(p);
-      m->range = span_from(p, start);
+      end_node(p, m);
       e = m;
     } else return e;
   }
@@ -382,22 +429,22 @@ static AstNode *parse_postfix(Parser *p) {
 
 /* power := postfix [ '^' unary ]          (right-associative, above unary minus) */
 static AstNode *parse_power(Parser *p) {
-  SrcRange start = p->cur.range;
+  uint32_t start = offset_of(p, &p->cur);
   AstNode *base = parse_postfix(p);
   if (!check(p, TK_CARET)) return base;
-  AstNode *n = node(p, AST_BINARY, start);
+  AstNode *n = node_from(p, AST_BINARY, start);
   n->op = TK_CARET;
   next_token(p);
   n->a = base;
   n->b = parse_unary(p);
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* unary := ( '-' | '+' | '!' ) unary | power */
 static AstNode *parse_unary(Parser *p) {
-  SrcRange start = p->cur.range;
-  if (!enter(p, start)) return bad_expr(p);
+  uint32_t start = offset_of(p, &p->cur);
+  if (!enter(p, p->cur.range)) return bad_expr(p);
   AstNode *n;
   if (check(p, TK_MINUS) || check(p, TK_PLUS) || check(p, TK_NOT)) {
     TokenKind op = p->cur.kind;
@@ -407,13 +454,14 @@ static AstNode *parse_unary(Parser *p) {
       /* -NUMBER is folded into one literal: long point lists are full of
       ** them. (-2^2 is not: its operand is the power, so it is -(2^2).) */
       operand->number = -operand->number;
-      operand->range = span_from(p, start);
+      operand->start = start;
+      end_node(p, operand);
       n = operand;
     } else {
-      n = node(p, AST_UNARY, start);
+      n = node_from(p, AST_UNARY, start);
       n->op = (unsigned char)op;
       n->a = operand;
-      n->range = span_from(p, start);
+      end_node(p, n);
     }
   } else n = parse_power(p);
   leave(p);
@@ -443,19 +491,20 @@ static int binary_prec(TokenKind k) {
 
 /* Parse operators of level min_prec and tighter. */
 static AstNode *parse_binary(Parser *p, int min_prec) {
-  SrcRange start = p->cur.range;
+  SrcRange at = p->cur.range;   /* for the depth limit's message */
+  uint32_t start = offset_of(p, &p->cur);
   AstNode *left = parse_unary(p);
   for (;;) {
     int prec = binary_prec(p->cur.kind);
     if (prec < min_prec || prec == 0 || p->panic || p->stop) return left;
-    AstNode *n = node(p, AST_BINARY, start);
+    AstNode *n = node_from(p, AST_BINARY, start);
     n->op = (unsigned char)p->cur.kind;
     next_token(p);
     n->a = left;
-    if (!enter(p, start)) return left;
+    if (!enter(p, at)) return left;
     n->b = parse_binary(p, prec + 1);
     leave(p);
-    n->range = span_from(p, start);
+    end_node(p, n);
     left = n;
   }
 }
@@ -468,47 +517,46 @@ static int ends_expr(TokenKind k) {
 }
 
 /* A lone number, NUMBER or '-' NUMBER before a token that ends the
-** expression, is most of a long point list: build it without descending
-** through every precedence level, with the same node, diagnostics and
-** depth limit as that descent. NULL, having consumed nothing, otherwise. */
-static AstNode *parse_lone_number(Parser *p) {
+** expression, is most of a long point list: read it without descending
+** through every precedence level, with the same value, range, diagnostics
+** and depth limit as that descent. 0, having consumed nothing, otherwise. */
+static int lone_number(Parser *p, AstNumber *out) {
   int neg = check(p, TK_MINUS);
-  if ((!neg && !check(p, TK_NUMBER)) || p->panic || p->stop) return NULL;
-  if (p->depth + 2 + neg > PARSE_MAX_DEPTH) return NULL;   /* let the descent report it */
+  if ((!neg && !check(p, TK_NUMBER)) || p->panic || p->stop) return 0;
+  if (p->depth + 2 + neg > PARSE_MAX_DEPTH) return 0;   /* let the descent report it */
   const Token *t = peek(p);
   if (neg) {
     /* the descent would stop after the `-` once errors hit the cap */
-    if (t->kind != TK_NUMBER || diag_too_many()) return NULL;
+    if (t->kind != TK_NUMBER || diag_too_many()) return 0;
     Lexer scout = p->lx;   /* the token after the number, as starts_block looks */
     scout.quiet = 1;
     Token after;
     lex_next(&scout, &after);
-    if (!ends_expr(after.kind)) return NULL;
-  } else if (!ends_expr(t->kind)) return NULL;
-  SrcRange start = p->cur.range;
+    if (!ends_expr(after.kind)) return 0;
+  } else if (!ends_expr(t->kind)) return 0;
+  out->start = offset_of(p, &p->cur);   /* as parse_unary folds -NUMBER */
   if (neg) next_token(p);
-  AstNode *n = node(p, AST_NUMBER, p->cur.range);
-  n->number = neg ? -p->cur.number : p->cur.number;
+  out->value = neg ? -p->cur.number : p->cur.number;
   next_token(p);
-  if (neg) n->range = span_from(p, start);   /* as parse_unary folds it */
-  return n;
+  out->end = p->prev_end_at;
+  return 1;
 }
 
 /* expr := or [ '?' expr ':' expr ] */
 static AstNode *parse_expr(Parser *p) {
-  AstNode *lone = parse_lone_number(p);
-  if (lone) return lone;
-  SrcRange start = p->cur.range;
-  if (!enter(p, start)) return bad_expr(p);
+  AstNumber lone;
+  if (lone_number(p, &lone)) return number_node(p, &lone);
+  uint32_t start = offset_of(p, &p->cur);
+  if (!enter(p, p->cur.range)) return bad_expr(p);
   AstNode *cond = parse_binary(p, 1);
   if (check(p, TK_QUESTION) && !p->panic) {
-    AstNode *n = node(p, AST_TERNARY, start);
+    AstNode *n = node_from(p, AST_TERNARY, start);
     next_token(p);
     n->a = cond;
     n->b = parse_expr(p);
     expect(p, TK_COLON, "in a `? :` expression");
     n->c = parse_expr(p);
-    n->range = span_from(p, start);
+    end_node(p, n);
     cond = n;
   }
   leave(p);
@@ -575,10 +623,9 @@ static void end_statement(Parser *p, const char *what) {
 
 /* include := 'include' STRING ';' ;  use := 'use' STRING 'as' IDENT ';' */
 static AstNode *parse_include(Parser *p) {
-  SrcRange start = p->cur.range;
   int is_use = check(p, TK_USE);
+  AstNode *n = node(p, is_use ? AST_USE : AST_INCLUDE);
   next_token(p);
-  AstNode *n = node(p, is_use ? AST_USE : AST_INCLUDE, start);
   if (!check(p, TK_STRING)) { expected(p, TK_STRING, is_use ? "(a file name) after `use`" : "(a file name) after `include`"); return n; }
   n->name = p->cur.string;
   next_token(p);
@@ -586,36 +633,34 @@ static AstNode *parse_include(Parser *p) {
     expect(p, TK_AS, "after the file name (`use \"file.npr\" as name;`)");
     if (!p->panic && !check(p, TK_IDENT)) expected(p, TK_IDENT, "(the namespace name) after `as`");
     if (!p->panic) {
-      n->a = node(p, AST_IDENT, p->cur.range);
+      n->a = node(p, AST_IDENT);
       n->a->name = p->cur.string;
       next_token(p);
     }
   }
   end_statement(p, is_use ? "after a `use` statement" : "after an `include` statement");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* let_stmt := 'let' IDENT '=' expr ';' */
 static AstNode *parse_let(Parser *p) {
-  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_LET);
   next_token(p);
-  AstNode *n = node(p, AST_LET, start);
   if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(a name) after `let`"); return n; }
   n->name = p->cur.string;
   next_token(p);
   expect(p, TK_ASSIGN, "after the name in a `let`");
   if (!p->panic) n->a = parse_expr(p);
   end_statement(p, "after a `let` statement");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* fn_def := 'fn' IDENT params '=' expr ';' */
 static AstNode *parse_fn_def(Parser *p) {
-  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_FN_DEF);
   next_token(p);
-  AstNode *n = node(p, AST_FN_DEF, start);
   if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(the function's name) after `fn`"); return n; }
   n->name = p->cur.string;
   next_token(p);
@@ -623,43 +668,40 @@ static AstNode *parse_fn_def(Parser *p) {
   if (!p->panic) expect(p, TK_ASSIGN, "before the function body");
   if (!p->panic) n->a = parse_expr(p);
   end_statement(p, "after a function definition");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* module_def := 'module' IDENT params braced */
 static AstNode *parse_module_def(Parser *p) {
-  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_MODULE_DEF);
   next_token(p);
-  AstNode *n = node(p, AST_MODULE_DEF, start);
   if (!check(p, TK_IDENT)) { expected(p, TK_IDENT, "(the module's name) after `module`"); return n; }
   n->name = p->cur.string;
   next_token(p);
   parse_params(p, &n->list);
   if (!p->panic) parse_braced(p, &n->list2, "to start the module body");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* for_stmt := 'for' '(' bindings ')' body */
 static AstNode *parse_for(Parser *p) {
-  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_FOR);
   next_token(p);
-  AstNode *n = node(p, AST_FOR, start);
   SrcRange open = p->cur.range;
   expect(p, TK_LPAREN, "after `for`");
   if (!p->panic) parse_bindings(p, &n->list);
   if (!p->panic) expect_close(p, TK_RPAREN, open, "`for` bindings");
   if (!p->panic) parse_body(p, &n->list2);
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* if_stmt := 'if' '(' expr ')' body [ 'else' body ] */
 static AstNode *parse_if(Parser *p) {
-  SrcRange start = p->cur.range;
+  AstNode *n = node(p, AST_IF);
   next_token(p);
-  AstNode *n = node(p, AST_IF, start);
   SrcRange open = p->cur.range;
   expect(p, TK_LPAREN, "after `if`");
   if (!p->panic) n->a = parse_expr(p);
@@ -669,46 +711,43 @@ static AstNode *parse_if(Parser *p) {
     n->has_else = 1;
     parse_body(p, &n->list2);
   }
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* block := IDENT { IDENT } braced */
 static AstNode *parse_block(Parser *p) {
-  SrcRange start = p->cur.range;
-  AstNode *n = node(p, AST_BLOCK, start);
+  AstNode *n = node(p, AST_BLOCK);
   n->name = p->cur.string;
   next_token(p);
   int mark = begin_list(p);
   while (check(p, TK_IDENT)) {
-    AstNode *w = node(p, AST_IDENT, p->cur.range);
+    AstNode *w = node(p, AST_IDENT);
     w->name = p->cur.string;
     push(p, w);
     next_token(p);
   }
   end_list(p, mark, &n->list2);
   parse_braced(p, &n->list, "to open the block");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* call_stmt := postfix ( ';' | braced )      (starts with IDENT '(') */
 static AstNode *parse_call_stmt(Parser *p) {
-  SrcRange start = p->cur.range;
-  AstNode *n = node(p, AST_CALL_STMT, start);
+  AstNode *n = node(p, AST_CALL_STMT);
   n->a = parse_postfix(p);
   if (!p->panic && check(p, TK_LBRACE)) {
     n->has_body = 1;
     parse_braced(p, &n->list2, "");
   } else end_statement(p, "after a call");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
 /* property := IDENT [ expr { ',' expr } ] ';' */
 static AstNode *parse_property(Parser *p) {
-  SrcRange start = p->cur.range;
-  AstNode *n = node(p, AST_PROPERTY, start);
+  AstNode *n = node(p, AST_PROPERTY);
   n->name = p->cur.string;
   next_token(p);
   if (check(p, TK_ASSIGN)) {
@@ -722,7 +761,7 @@ static AstNode *parse_property(Parser *p) {
     end_list(p, mark, &n->list);
   }
   end_statement(p, "after a property");
-  n->range = span_from(p, start);
+  end_node(p, n);
   return n;
 }
 
@@ -775,8 +814,7 @@ AstNode *parse_file(int file, Arena *arena) {
   p.arena = arena;
   p.prev_end = src_none();
   lex_next(&p.lx, &p.cur);
-  AstNode *prog = node(&p, AST_PROGRAM, p.cur.range);
-  prog->range.line = prog->range.col = 1;
+  AstNode *prog = ast_new(arena, AST_PROGRAM, file, 0, 0);
   while (!check(&p, TK_EOF) && !p.stop) {
     parse_items(&p, &prog->list);
     if (check(&p, TK_RBRACE)) {
@@ -785,9 +823,9 @@ AstNode *parse_file(int file, Arena *arena) {
       p.panic = 0;
     }
   }
-  prog->range.end_line = p.cur.range.line;
-  prog->range.end_col = p.cur.range.col;
+  prog->end = offset_of(&p, &p.cur);
   free(p.scratch);
+  free(p.nums);
   lex_free(&p.lx);
   return prog;
 }
@@ -805,6 +843,7 @@ AstNode *parse_expression_file(int file, Arena *arena) {
   if (!p.panic && !p.stop && !check(&p, TK_EOF))
     error_at(&p, p.cur.range, "unexpected %s after the value", found(&p));
   free(p.scratch);
+  free(p.nums);
   lex_free(&p.lx);
   return (p.errors || p.stop || diag_error_count() > errors_before) ? NULL : e;
 }
