@@ -6,6 +6,7 @@
 **   2  bad usage: unknown option, missing argument
 */
 #include <errno.h>
+#include <malloc.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -458,6 +459,11 @@ static const Command commands[] = {
 };
 
 int main(int argc, char **argv) {
+  /* A frame allocates and frees large buffers stage after stage; keep
+  ** freed memory in the heap for the next stage rather than handing it
+  ** back to the kernel, which would zero fresh pages for it again. */
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   Options o;
   memset(&o, 0, sizeof o);
   parse_options(argc, argv, &o);

@@ -50,26 +50,6 @@ static size_t table_size(size_t n) {
   return s;
 }
 
-/* The index of edge (a, b) in m->edges, adding it when new; slot is the
-** open-addressed table of edge indices + 1 (0 = empty). */
-static int edge_find_or_add(Mesh *m, int *slot, size_t mask, int a, int b) {
-  if (a > b) { int t = a; a = b; b = t; }
-  uint64_t key = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
-  size_t h = (size_t)hash_u64(key) & mask;
-  while (slot[h]) {
-    MeshEdge *e = &m->edges[slot[h] - 1];
-    if (e->v[0] == a && e->v[1] == b) return slot[h] - 1;
-    h = (h + 1) & mask;
-  }
-  MeshEdge *e = &m->edges[m->nedges];
-  e->v[0] = a; e->v[1] = b;
-  e->f[0] = e->f[1] = -1;
-  e->sharpness = 0;
-  e->nonmanifold = 0;
-  slot[h] = ++m->nedges;
-  return m->nedges - 1;
-}
-
 /* Record triangle t on edge e. */
 static void edge_add_face(MeshEdge *e, int t) {
   if (e->f[0] < 0) e->f[0] = t;
@@ -77,7 +57,10 @@ static void edge_add_face(MeshEdge *e, int t) {
   else e->nonmanifold = 1;
 }
 
-/* A triangle side whose two corners are the same vertex gets edge -1. */
+/* Edges are found through buckets by their lower vertex: bucket a holds
+** (b, edge) for the edges (a, b) met so far, a handful each on a mesh, in
+** one array sized by counting the sides first. Edges are numbered in the
+** order the triangles first name them. */
 void mesh_build_edges(Mesh *m) {
   free(m->edges);
   free(m->tri_edges);
@@ -85,18 +68,41 @@ void mesh_build_edges(Mesh *m) {
   m->edges = xmalloc((cap ? cap : 1) * sizeof *m->edges);
   m->tri_edges = xmalloc((m->ntris ? (size_t)m->ntris : 1) * sizeof *m->tri_edges);
   m->nedges = 0;
-  size_t size = table_size(cap);
-  int *slot = xcalloc(size, sizeof *slot);
+  int *start = xcalloc((size_t)m->nverts + 2, sizeof *start);   /* bucket a: start[a] .. */
+  int *used = xcalloc((size_t)m->nverts + 1, sizeof *used);
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) {
+      int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
+      start[(a < b ? a : b) + 1]++;
+    }
+  for (int v = 0; v < m->nverts; v++) start[v + 1] += start[v];
+  int (*bucket)[2] = xmalloc((cap ? cap : 1) * sizeof *bucket);   /* (b, edge) */
   for (int t = 0; t < m->ntris; t++) {
     for (int k = 0; k < 3; k++) {
       int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
       if (a == b) { m->tri_edges[t][k] = -1; continue; }
-      int e = edge_find_or_add(m, slot, size - 1, a, b);
+      if (a > b) { int x = a; a = b; b = x; }
+      int (*q)[2] = bucket + start[a], n = used[a], e = -1;
+      for (int i = 0; i < n; i++)
+        if (q[i][0] == b) { e = q[i][1]; break; }
+      if (e < 0) {
+        e = m->nedges++;
+        MeshEdge *me = &m->edges[e];
+        me->v[0] = a; me->v[1] = b;
+        me->f[0] = me->f[1] = -1;
+        me->sharpness = 0;
+        me->nonmanifold = 0;
+        q[n][0] = b;
+        q[n][1] = e;
+        used[a]++;
+      }
       edge_add_face(&m->edges[e], t);
       m->tri_edges[t][k] = e;
     }
   }
-  free(slot);
+  free(start);
+  free(used);
+  free(bucket);
   if (m->nedges > 0) m->edges = xrealloc(m->edges, (size_t)m->nedges * sizeof *m->edges);
 }
 

@@ -471,6 +471,11 @@ void render_frame_free(RenderFrame *f) {
   memset(f, 0, sizeof *f);
 }
 
+/* The tiles a set-up triangle touches, columns tx0..tx1 and rows ty0..ty1
+** (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits). Binning reads
+** these 8 bytes a triangle rather than the whole RastTri. */
+typedef struct TileBox { uint16_t tx0, ty0, tx1, ty1; } TileBox;
+
 /* The set-up triangles, in per-chunk lists (see setup_triangles), and the
 ** screen tiles with, for each, references to the triangles touching it in
 ** drawing order (objects in order, triangles in order): bin t holds
@@ -479,6 +484,7 @@ void render_frame_free(RenderFrame *f) {
 typedef struct Bins {
   int nlists;
   RastTriList *lists;
+  TileBox **boxes;             /* per list, per triangle: the tiles it touches */
   int tiles_x, tiles_y, side;  /* tile side in samples */
   int *start;
   uint32_t *items;
@@ -503,10 +509,11 @@ typedef struct SetupChunk { int object, start, end; } SetupChunk;
 
 typedef struct SetupJob {
   const RenderFrame *f;
-  int gw, gh;
+  int gw, gh, side;            /* sample grid; tile side in samples */
   RastVert **verts;            /* per object */
   SetupChunk *chunks;
   RastTriList *lists;          /* per triangle chunk */
+  TileBox **boxes;             /* per triangle chunk, parallel to its list */
 } SetupJob;
 
 static void project_chunk(void *ctx, int k) {
@@ -535,6 +542,13 @@ static void emit_chunk(void *ctx, int k) {
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
     rast_emit(list, tv, c->object, t, job->gw, job->gh);
   }
+  TileBox *box = job->boxes[k] = xmalloc(((size_t)list->n + 1) * sizeof *box);
+  int side = job->side;
+  for (int i = 0; i < list->n; i++) {
+    const RastTri *t = &list->tris[i];
+    box[i] = (TileBox){(uint16_t)(t->x0 / side), (uint16_t)(t->y0 / side),
+                       (uint16_t)((t->x1 - 1) / side), (uint16_t)((t->y1 - 1) / side)};
+  }
 }
 
 /* Chunks covering count(object) items of every object; returns how many. */
@@ -555,7 +569,7 @@ static int make_chunks(const RenderFrame *f, int tris, SetupChunk **out) {
 /* Project every vertex of every object and set up its triangles for a
 ** gw x gh sample grid, on nthreads threads, into b's lists. */
 static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, Bins *b) {
-  SetupJob job = {f, gw, gh, NULL, NULL, NULL};
+  SetupJob job = {f, gw, gh, b->side, NULL, NULL, NULL, NULL};
   job.verts = xcalloc((size_t)f->nobjects + 1, sizeof *job.verts);
   for (int i = 0; i < f->nobjects; i++)
     job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
@@ -564,11 +578,13 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
   free(job.chunks);
   n = make_chunks(f, 1, &job.chunks);
   job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
+  job.boxes = xcalloc((size_t)n + 1, sizeof *job.boxes);
   parallel_tasks(n, nthreads, emit_chunk, &job);
   for (int i = 0; i < f->nobjects; i++) free(job.verts[i]);
   free(job.verts);
   free(job.chunks);
   b->lists = job.lists;
+  b->boxes = job.boxes;
   b->nlists = n;
 }
 
@@ -581,11 +597,9 @@ static void bin_triangles(Bins *b) {
     int *fill = pass ? xcalloc((size_t)ntiles, sizeof *fill) : NULL;
     for (int l = 0; l < b->nlists; l++)
       for (int i = 0; i < b->lists[l].n; i++) {
-        const RastTri *t = &b->lists[l].tris[i];
-        int tx0 = t->x0 / b->side, tx1 = (t->x1 - 1) / b->side;
-        int ty0 = t->y0 / b->side, ty1 = (t->y1 - 1) / b->side;
-        for (int ty = ty0; ty <= ty1; ty++)
-          for (int tx = tx0; tx <= tx1; tx++) {
+        TileBox t = b->boxes[l][i];
+        for (int ty = t.ty0; ty <= t.ty1; ty++)
+          for (int tx = t.tx0; tx <= t.tx1; tx++) {
             int k = ty * b->tiles_x + tx;
             if (pass) b->items[b->start[k] + fill[k]++] = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
             else b->start[k + 1]++;
@@ -600,8 +614,12 @@ static void bin_triangles(Bins *b) {
 }
 
 static void bins_free(Bins *b) {
-  for (int l = 0; l < b->nlists; l++) rast_list_free(&b->lists[l]);
+  for (int l = 0; l < b->nlists; l++) {
+    rast_list_free(&b->lists[l]);
+    free(b->boxes[l]);
+  }
   free(b->lists);
+  free(b->boxes);
   free(b->start);
   free(b->items);
 }
@@ -856,8 +874,8 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   double t0 = stats_now();
   int nthreads = thread_count(o);
   Bins bins = {0};
-  setup_triangles(f, gw, gh, nthreads, &bins);
   bins.side = RENDER_TILE * N;
+  setup_triangles(f, gw, gh, nthreads, &bins);
   bins.tiles_x = (gw + bins.side - 1) / bins.side;
   bins.tiles_y = (gh + bins.side - 1) / bins.side;
   bin_triangles(&bins);
