@@ -354,7 +354,7 @@ TEST(identical_bytes_at_1_2_8_threads) {
   GBuffer *gb[3];
   int threads[3] = {1, 2, 8};
   for (int k = 0; k < 3; k++) {
-    RenderOptions o = {0, 0, threads[k], 0, 0};
+    RenderOptions o = {.threads = threads[k]};
     CHECK_EQ_INT(render_scene(&s, &o, &img[k], &gb[k]), 0);
   }
   CHECK_EQ_INT(img[0]->channels, 3);   /* opaque background: RGB */
@@ -371,10 +371,24 @@ TEST(identical_bytes_at_1_2_8_threads) {
   CHECK(seen[0] && seen[1] && seen[2] && seen[3]);
   /* the full G-buffer path and the per-tile path give the same image */
   Image *tiles;
-  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderOptions o = {.threads = 2};
   CHECK_EQ_INT(render_scene(&s, &o, &tiles, NULL), 0);
   CHECK(memcmp(img[0]->data, tiles->data, n) == 0);
   image_destroy(tiles);
+  /* bound for an 8-bit file, at 1 and 2 threads: the codes image_write
+  ** would have made of the float frame */
+  size_t npix = (size_t)img[0]->width * img[0]->height;
+  uint8_t *want = malloc(npix * 3);
+  image_to_srgb8(img[0], want);
+  for (int t = 1; t <= 2; t++) {
+    Image *img8;
+    RenderOptions o8 = {.threads = t, .out8 = 1};
+    CHECK_EQ_INT(render_scene(&s, &o8, &img8, NULL), 0);
+    CHECK(img8->data == NULL && img8->data8 != NULL);
+    CHECK(memcmp(want, img8->data8, npix * 3) == 0);
+    image_destroy(img8);
+  }
+  free(want);
   for (int k = 0; k < 3; k++) { image_destroy(img[k]); gbuf_destroy(gb[k]); }
   arena_free(&s.arena);
 }
@@ -389,7 +403,7 @@ TEST(closed_mesh_has_no_cracks) {
   s.output.width = s.output.height = 200;
   Image *img;
   GBuffer *gb;
-  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderOptions o = {.threads = 2};
   CHECK_EQ_INT(render_scene(&s, &o, &img, &gb), 0);
   /* every background sample must be reachable from the image border */
   int w = gb->width, h = gb->height, holes = 0, covered = 0;
@@ -430,7 +444,7 @@ TEST(back_face_culling_only_when_hidden) {
   build_scene(&s, SHADE_PHONG);
   s.nobjects = 1;
   s.output.samples = 1;
-  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderOptions o = {.threads = 2};
   RenderFrame f;
   CHECK(render_prepare(&s, &o, &f));
   CHECK_EQ_INT(f.objects[0].cull_back, 1);
@@ -509,7 +523,7 @@ TEST(non_finite_geometry_is_dropped) {
   s.objects[2].transform.m[1][3] = INFINITY;
   Image *img;
   GBuffer *gb;
-  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderOptions o = {.threads = 2};
   CHECK_EQ_INT(render_scene(&s, &o, &img, &gb), 0);
   int seen[4] = {0};
   for (int i = 0; i < gb->width * gb->height; i++) seen[gb->object[i] + 1]++;
@@ -524,14 +538,14 @@ TEST(limits_are_diagnosed) {
   Scene s;
   build_scene(&s, SHADE_FLAT);
   Image *img;
-  RenderOptions o = {RENDER_MAX_SIZE + 1, 10, 1, 0, 0};
+  RenderOptions o = {.width = RENDER_MAX_SIZE + 1, .height = 10, .threads = 1};
   CHECK_EQ_INT(render_scene(&s, &o, &img, NULL), 1);
   CHECK(img == NULL);
-  RenderOptions o2 = {100, 100, 1, 0, RENDER_MAX_SAMPLES + 1};
+  RenderOptions o2 = {.width = 100, .height = 100, .threads = 1, .samples = RENDER_MAX_SAMPLES + 1};
   CHECK_EQ_INT(render_scene(&s, &o2, &img, NULL), 1);
-  RenderOptions o3 = {10000, 10000, 1, 0, 1};   /* each side fine, too many pixels */
+  RenderOptions o3 = {.width = 10000, .height = 10000, .threads = 1, .samples = 1};   /* each side fine, too many pixels */
   CHECK_EQ_INT(render_scene(&s, &o3, &img, NULL), 1);
-  RenderOptions o4 = {4000, 100, 1, 0, 9};      /* 36000 samples wide */
+  RenderOptions o4 = {.width = 4000, .height = 100, .threads = 1, .samples = 9};      /* 36000 samples wide */
   CHECK_EQ_INT(render_scene(&s, &o4, &img, NULL), 1);
   arena_free(&s.arena);
 }
@@ -546,7 +560,7 @@ TEST(empty_scene_is_background) {
   s.output.samples = 2;
   s.output.background = (Color){0.25f, 0.5f, 0.75f, 0.5f};
   Image *img;
-  RenderOptions o = {0, 0, 3, 0, 0};
+  RenderOptions o = {.threads = 3};
   CHECK_EQ_INT(render_scene(&s, &o, &img, NULL), 0);
   CHECK_EQ_INT(img->channels, 4);   /* a see-through background keeps alpha */
   int wrong = 0;

@@ -94,7 +94,7 @@ static int object_colours(const Image *img, const GBuffer *g, float out[][3], in
 }
 
 static void render(const Scene *s, Image **img, GBuffer **g) {
-  RenderOptions o = {0, 0, 2, 0, 0};
+  RenderOptions o = {.threads = 2};
   CHECK_EQ_INT(render_scene(s, &o, img, g), 0);
 }
 
