@@ -972,9 +972,8 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   ** they finish each row, unless origami sheets (composited in float)
   ** come over it */
   int nc = f.background.a >= 1 ? 3 : 4;
-  if (o->out8 && s->norigami == 0) {
+  if (o->out8 && s->norigami == 0) {   /* small: plain pages fault in more evenly across workers */
     *out = image_create8(f.width, f.height, nc);
-    gbuf_advise_huge((*out)->data8, (size_t)f.width * f.height * nc);
   } else {
     *out = image_create(f.width, f.height, nc);
     gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
