@@ -471,10 +471,16 @@ void render_frame_free(RenderFrame *f) {
   memset(f, 0, sizeof *f);
 }
 
-/* The tiles a set-up triangle touches, columns tx0..tx1 and rows ty0..ty1
-** (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits). Binning reads
-** these 8 bytes a triangle rather than the whole RastTri. */
-typedef struct TileBox { uint16_t tx0, ty0, tx1, ty1; } TileBox;
+/* What binning and the tile pass read of a set-up triangle rather than
+** the whole RastTri: the tiles it touches, columns tx0..tx1 and rows
+** ty0..ty1 (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits), whether
+** it faces away from the camera, and a depth no sample of it is nearer
+** than. */
+typedef struct TileBox {
+  uint16_t tx0, ty0, tx1, ty1;
+  float zmin;
+  int back;
+} TileBox;
 
 /* The set-up triangles, in per-chunk lists (see setup_triangles), and the
 ** screen tiles with, for each, references to the triangles touching it in
@@ -484,9 +490,10 @@ typedef struct TileBox { uint16_t tx0, ty0, tx1, ty1; } TileBox;
 typedef struct Bins {
   int nlists;
   RastTriList *lists;
-  TileBox **boxes;             /* per list, per triangle: the tiles it touches */
+  TileBox **boxes;             /* per list, parallel to it */
   int tiles_x, tiles_y, side;  /* tile side in samples */
   int *start;
+  int *nfront;                 /* per tile: its bin's front-facing triangles come first */
   uint32_t *items;
 } Bins;
 
@@ -494,6 +501,10 @@ typedef struct Bins {
 
 static inline const RastTri *bin_tri(const Bins *b, uint32_t item) {
   return &b->lists[item >> BIN_LOCAL_BITS].tris[item & ((1u << BIN_LOCAL_BITS) - 1)];
+}
+
+static inline const TileBox *bin_box(const Bins *b, uint32_t item) {
+  return &b->boxes[item >> BIN_LOCAL_BITS][item & ((1u << BIN_LOCAL_BITS) - 1)];
 }
 
 /* ---- triangle setup and binning ------------------------------------------- */
@@ -546,8 +557,14 @@ static void emit_chunk(void *ctx, int k) {
   int side = job->side;
   for (int i = 0; i < list->n; i++) {
     const RastTri *t = &list->tris[i];
+    /* depth is affine: its least value over the box of sample centres is
+    ** at a corner; the margin covers the rounding of rast_triangle's sums */
+    float fx0 = (float)t->x0 + 0.5f - t->ox, fx1 = (float)t->x1 - 0.5f - t->ox;
+    float fy0 = (float)t->y0 + 0.5f - t->oy, fy1 = (float)t->y1 - 0.5f - t->oy;
+    float zx = fminf(t->z[1] * fx0, t->z[1] * fx1), zy = fminf(t->z[2] * fy0, t->z[2] * fy1);
     box[i] = (TileBox){(uint16_t)(t->x0 / side), (uint16_t)(t->y0 / side),
-                       (uint16_t)((t->x1 - 1) / side), (uint16_t)((t->y1 - 1) / side)};
+                       (uint16_t)((t->x1 - 1) / side), (uint16_t)((t->y1 - 1) / side),
+                       t->z[0] + zx + zy - 1e-5f, o->backfacing[t->face]};
   }
 }
 
@@ -589,27 +606,40 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
 }
 
 /* Counting sort of triangle references by tile: two passes over the
-** triangles, so every bin keeps drawing order. */
+** triangles. Each bin holds its front-facing triangles, then the ones
+** facing away, each group in drawing order: back faces are mostly hidden
+** by the front ones, and once those are drawn the tile pass can skip
+** them whole (tile_worker). */
 static void bin_triangles(Bins *b) {
   int ntiles = b->tiles_x * b->tiles_y;
   b->start = xcalloc((size_t)ntiles + 1, sizeof *b->start);
+  b->nfront = xcalloc((size_t)ntiles + 1, sizeof *b->nfront);
   for (int pass = 0; pass < 2; pass++) {
-    int *fill = pass ? xcalloc((size_t)ntiles, sizeof *fill) : NULL;
+    int *front = pass ? xcalloc((size_t)ntiles, sizeof *front) : NULL;
+    int *back = pass ? xcalloc((size_t)ntiles, sizeof *back) : NULL;
     for (int l = 0; l < b->nlists; l++)
       for (int i = 0; i < b->lists[l].n; i++) {
         TileBox t = b->boxes[l][i];
+        uint32_t item = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
         for (int ty = t.ty0; ty <= t.ty1; ty++)
           for (int tx = t.tx0; tx <= t.tx1; tx++) {
             int k = ty * b->tiles_x + tx;
-            if (pass) b->items[b->start[k] + fill[k]++] = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
-            else b->start[k + 1]++;
+            if (!pass) {
+              b->start[k + 1]++;
+              b->nfront[k] += !t.back;
+            } else if (t.back) {
+              b->items[b->start[k] + b->nfront[k] + back[k]++] = item;
+            } else {
+              b->items[b->start[k] + front[k]++] = item;
+            }
           }
       }
     if (!pass) {
       for (int k = 0; k < ntiles; k++) b->start[k + 1] += b->start[k];
       b->items = xmalloc((size_t)b->start[ntiles] * sizeof *b->items + 1);
     }
-    free(fill);
+    free(front);
+    free(back);
   }
 }
 
@@ -621,6 +651,7 @@ static void bins_free(Bins *b) {
   free(b->lists);
   free(b->boxes);
   free(b->start);
+  free(b->nfront);
   free(b->items);
 }
 
@@ -801,6 +832,30 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, Sh
   }
 }
 
+/* The farthest depth in rt's rectangle (GBUF_NO_DEPTH where it is empty). */
+static float tile_far(const RastTarget *rt) {
+  float far = 0;
+  for (int y = rt->y0; y < rt->y1; y++) {
+    const float *d = rt->depth + (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
+    for (int x = 0; x < rt->x1 - rt->x0; x++) far = d[x] > far ? d[x] : far;
+  }
+  return far;
+}
+
+/* Rasterize bin items [i0, i1) into rt, but for those no nearer than far
+** anywhere (their depth test would fail at every sample). */
+static void raster_items(const Bins *b, int i0, int i1, float far, RastTarget *rt) {
+  for (int i = i0; i < i1; i++) {
+    if (i + 2 < i1) {   /* the bin jumps around the lists: fetch ahead */
+      const char *ahead = (const char *)bin_tri(b, b->items[i + 2]);
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + sizeof(RastTri) - 1);
+    }
+    if (bin_box(b, b->items[i])->zmin >= far) continue;
+    rast_triangle(bin_tri(b, b->items[i]), rt);
+  }
+}
+
 static void *tile_worker(void *arg) {
   Worker *w = arg;
   TileJob *job = w->job;
@@ -811,14 +866,10 @@ static void *tile_worker(void *arg) {
     if (k >= ntiles) break;
     double t0 = stats_now();
     RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x);
-    for (int i = b->start[k]; i < b->start[k + 1]; i++) {
-      if (i + 2 < b->start[k + 1]) {   /* the bin jumps around the lists: fetch ahead */
-        const char *ahead = (const char *)bin_tri(b, b->items[i + 2]);
-        __builtin_prefetch(ahead);
-        __builtin_prefetch(ahead + sizeof(RastTri) - 1);
-      }
-      rast_triangle(bin_tri(b, b->items[i]), &rt);
-    }
+    int first_back = b->start[k] + b->nfront[k];
+    raster_items(b, b->start[k], first_back, INFINITY, &rt);
+    if (first_back < b->start[k + 1])   /* behind all the front faces drawn: skipped */
+      raster_items(b, first_back, b->start[k + 1], tile_far(&rt), &rt);
     double t1 = stats_now();
     shade_tile(job, &rt, w->rows, w->samp, w->prow);
     w->raster_s += t1 - t0;
