@@ -65,6 +65,17 @@ void mem_advise_huge(void *p, size_t n) {
 #endif
 }
 
+void mem_populate(void *p, size_t n) {
+#ifdef MADV_POPULATE_WRITE
+  const uintptr_t page = 4096;
+  uintptr_t lo = ((uintptr_t)p + page - 1) & ~(page - 1), hi = ((uintptr_t)p + n) & ~(page - 1);
+  if (hi > lo) madvise((void *)lo, hi - lo, MADV_POPULATE_WRITE);
+#else
+  (void)p;
+  (void)n;
+#endif
+}
+
 void *xcalloc_huge(size_t n) {
   const size_t huge = (size_t)2 << 20;
   if (n < huge) return xcalloc(1, n);

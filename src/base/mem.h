@@ -19,6 +19,10 @@ char *xstrdup(const char *s);
 ** [p, p + n): a big buffer then costs a few page faults instead of one per
 ** 4 KB. A hint only; small blocks are left alone. */
 void mem_advise_huge(void *p, size_t n);
+/* Fault in the pages of [p, p + n) now, in one call, rather than one
+** fault at a time as they are first written: for a fresh buffer about to
+** be filled whole. A hint: without kernel support nothing happens. */
+void mem_populate(void *p, size_t n);
 
 /* n zeroed bytes for a big table, freed with free(). From 2 MB up the block
 ** is aligned to 2 MB and asks for huge pages, as mem_advise_huge. */

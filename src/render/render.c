@@ -1023,21 +1023,24 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   ** they finish each row, unless origami sheets (composited in float)
   ** come over it */
   int nc = f.background.a >= 1 ? 3 : 4;
-  if (o->out8 && s->norigami == 0) {   /* small: plain pages fault in more evenly across workers */
+  double t0 = stats_now();
+  if (o->out8 && s->norigami == 0) {   /* every byte is written: fault it in at once */
     *out = image_create8(f.width, f.height, nc);
+    mem_populate((*out)->data8, (size_t)f.width * f.height * nc);
   } else {
     *out = image_create(f.width, f.height, nc);
     gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
   }
+  stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
   /* origami composes with meshes through the sample depths, so it needs the G-buffer */
   GBuffer *gbuf = NULL;
   render_frame(&f, o, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);
   if (gbuf_out) *gbuf_out = gbuf;
   int ok = 1;
   if (s->norigami > 0) {
-    double t0 = stats_now();
+    double t1 = stats_now();
     ok = composite_origami(s, &f, *out, gbuf);
-    stats_record("origami", stats_now() - t0);
+    stats_record("origami", stats_now() - t1);
   }
   if (!gbuf_out) gbuf_destroy(gbuf);
   /* lines (src/render/lines.h): strokes composited over the shaded image */
