@@ -49,6 +49,7 @@ for size in 512x512 1920x1080; do
       set -- $(python3 bench/pairs.py "$POV_RUNS" -- povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t" \
                                       -- povray +I"$DIR/teapot.pov" +O"$DIR/p1.png" +FN +W1 +H1 -D -A +WT"$t")
       p_run=$1; p_one=$2; p_work=$3
+      eval "pwork_${W}_$t=$p_work"
       printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
         "$(ms "$s_work")" "$(ms "$p_run")" "$(ms "$p_one")" "$(ms "$p_work")" "$(ratio "$p_work" "$s_work")" \
         "$(ratio "$p_run" "$s_run")"
@@ -59,6 +60,10 @@ for size in 512x512 1920x1080; do
   done
   eval "w1=\$work_${W}_1; w2=\$work_${W}_2"
   echo "  $size: sumi 2 threads vs 1 (rendering work): $(ratio "$w1" "$w2")"
+  if [ -n "$pov" ]; then   # what this machine's two cores give a renderer that parallelises well
+    eval "p1=\$pwork_${W}_1; p2=\$pwork_${W}_2"
+    echo "  $size: POV-Ray 2 threads vs 1 (rendering work): $(ratio "$p1" "$p2")"
+  fi
 done
 echo "(medians of $RUNS rounds for sumi, $POV_RUNS for POV-Ray; work = median of run - the same command at 1x1;"
 echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
