@@ -744,13 +744,17 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, fl
                       const float bg[4], ShadeSample *samp) {
   const int32_t *obj = rt->object + i, *face = rt->face + i;
   const float(*bary)[2] = (const float(*)[2])rt->bary + i;
+  float nn[RENDER_TILE * RENDER_MAX_SAMPLES], vv[RENDER_TILE * RENDER_MAX_SAMPLES];
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface */
-    if (obj[k] < 0) { e = k + 1; continue; }
+    if (obj[k] < 0) { nn[k] = vv[k] = 0; e = k + 1; continue; }
     for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
     ShadeTri t;
     shade_tri_init(job, obj[k], face[k], &t);
-    for (int j = k; j < e; j++) shade_tri_sample(&t, bary[j][0], bary[j][1], &samp[j]);
+    for (int j = k; j < e; j++) shade_tri_sample_raw(&t, bary[j][0], bary[j][1], &samp[j], &nn[j], &vv[j]);
   }
+  shade_unit_lengths(nn, vv, n);                        /* background lanes: 0, unused */
+  for (int k = 0; k < n; k++)
+    if (obj[k] >= 0) shade_sample_unit(&samp[k], nn[k], vv[k]);
   for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
     if (obj[k] < 0) {                                    /* a run of background */
       for (e = k; e < n && obj[e] < 0; e++) {

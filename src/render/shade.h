@@ -68,10 +68,15 @@ ShadeSpanFn shade_span_model(ShadeKind kind);
 void shade_span_generic(const ShadeSample *s, int n, float *rgb, int stride);
 void shade_toon_span(const ShadeSample *s, int n, float *rgb, int stride);
 
-/* The sample of t at barycentrics (b1, b2): the surface point, the unit
-** shading normal (turned toward the viewer on a back face), the unit view
-** vector and the uv, rebuilt from the triangle's corners. */
-static inline void shade_tri_sample(const ShadeTri *t, float b1, float b2, ShadeSample *s) {
+/* The sample of t at barycentrics (b1, b2) in two steps, so that a row's
+** square roots and divisions can run side by side (shade_unit_lengths):
+** shade_tri_sample_raw rebuilds the surface point, the uv, and the shading
+** normal and view vector before their normalisation, with their squared
+** lengths in *nn and *vv (*nn negated on a back face, whose normal turns
+** toward the viewer); shade_sample_unit then scales them by the factors
+** shade_unit_lengths made of those. */
+static inline void shade_tri_sample_raw(const ShadeTri *t, float b1, float b2, ShadeSample *s,
+                                        float *nn, float *vv) {
   const float *p0 = t->p[0], *p1 = t->p[1], *p2 = t->p[2];
   const float *n0 = t->n[0], *n1 = t->n[1], *n2 = t->n[2];
   float b0 = 1 - b1 - b2;
@@ -86,18 +91,16 @@ static inline void shade_tri_sample(const ShadeTri *t, float b1, float b2, Shade
   float nx = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
   float ny = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
   float nz = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
-  float nl = nx * nx + ny * ny + nz * nz;   /* unit normal, turned on a back face */
-  nl = nl > 0 ? 1 / sqrtf(nl) : 0;
-  if (t->back) nl = -nl;
+  *nn = nx * nx + ny * ny + nz * nz;
+  if (t->back) *nn = -*nn;
   float vx = t->view[0], vy = t->view[1], vz = t->view[2];
-  if (!t->ortho) {                          /* toward the eye, unit */
+  *vv = 1;                                  /* ortho: already unit */
+  if (!t->ortho) {                          /* toward the eye */
     vx = t->eye[0] - px; vy = t->eye[1] - py; vz = t->eye[2] - pz;
-    float vl = vx * vx + vy * vy + vz * vz;
-    vl = vl > 0 ? 1 / sqrtf(vl) : 0;
-    vx *= vl; vy *= vl; vz *= vl;
+    *vv = vx * vx + vy * vy + vz * vz;
   }
   s->p[0] = px; s->p[1] = py; s->p[2] = pz;
-  s->n[0] = nx * nl; s->n[1] = ny * nl; s->n[2] = nz * nl;
+  s->n[0] = nx; s->n[1] = ny; s->n[2] = nz;
   s->v[0] = vx; s->v[1] = vy; s->v[2] = vz;
   s->uv[0] = s->uv[1] = 0;
   if (t->want_uv && t->obj->mesh->uv) {
@@ -106,6 +109,25 @@ static inline void shade_tri_sample(const ShadeTri *t, float b1, float b2, Shade
     s->uv[0] = (float)(b0 * uv[v[0]].x + b1 * uv[v[1]].x + b2 * uv[v[2]].x);
     s->uv[1] = (float)(b0 * uv[v[0]].y + b1 * uv[v[1]].y + b2 * uv[v[2]].y);
   }
+}
+
+/* In place, for n samples: nn[k] becomes the factor that makes the normal
+** unit (negative on a back face, 0 for a zero normal), vv[k] the one for
+** the view vector. A plain loop over floats, which the compiler runs
+** several lanes at a time (IEEE square root and division, so the results
+** are those of one at a time). */
+static inline void shade_unit_lengths(float *restrict nn, float *restrict vv, int n) {
+  for (int k = 0; k < n; k++) {   /* no branches, so that it runs in lanes (1 / 0 is inf, not a trap) */
+    float a = fabsf(nn[k]), b = vv[k];
+    float ia = 1 / sqrtf(a), ib = 1 / sqrtf(b);
+    nn[k] = copysignf(a > 0 ? ia : 0, nn[k]);
+    vv[k] = b > 0 ? ib : 0;
+  }
+}
+
+static inline void shade_sample_unit(ShadeSample *s, float fn, float fv) {
+  s->n[0] *= fn; s->n[1] *= fn; s->n[2] *= fn;
+  s->v[0] *= fv; s->v[1] *= fv; s->v[2] *= fv;
 }
 
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
