@@ -420,8 +420,8 @@ static void cover_join(const Band *b, const Stroke *st, int i) {
     }
 }
 
-/* Ink of colour col and coverage a over pixel p (ch channels, alpha at
-** alpha or -1, ncol colour channels). */
+/* Ink of colour col and coverage a over pixel p (linear; its alpha channel
+** at alpha, or -1; ncol colour channels). */
 static inline void composite_pixel(float *p, int alpha, int ncol, const float col[3], float a) {
   if (alpha < 0) {
     for (int k = 0; k < ncol; k++) p[k] = p[k] * (1 - a) + col[k] * a;
