@@ -7,20 +7,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
 #include "../base/mem.h"
-
-void gbuf_advise_huge(void *p, size_t bytes) {
-#ifdef MADV_HUGEPAGE
-  if (bytes < ((size_t)4 << 20)) return;
-  uintptr_t page = 4096, a = (uintptr_t)p & ~(page - 1), b = ((uintptr_t)p + bytes) & ~(page - 1);
-  madvise((void *)a, b - a, MADV_HUGEPAGE);   /* advice only: failure changes nothing */
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
 
 GBuffer *gbuf_create(int out_width, int out_height, int samples) {
   GBuffer *g = xcalloc(1, sizeof *g);
@@ -32,10 +20,10 @@ GBuffer *gbuf_create(int out_width, int out_height, int samples) {
   g->object = xmalloc(n * sizeof *g->object);
   g->face = xmalloc(n * sizeof *g->face);
   g->bary = xmalloc(n * sizeof *g->bary);
-  gbuf_advise_huge(g->depth, n * sizeof *g->depth);
-  gbuf_advise_huge(g->object, n * sizeof *g->object);
-  gbuf_advise_huge(g->face, n * sizeof *g->face);
-  gbuf_advise_huge(g->bary, n * sizeof *g->bary);
+  mem_advise_huge(g->depth, n * sizeof *g->depth);
+  mem_advise_huge(g->object, n * sizeof *g->object);
+  mem_advise_huge(g->face, n * sizeof *g->face);
+  mem_advise_huge(g->bary, n * sizeof *g->bary);
   return g;
 }
 
@@ -64,7 +52,7 @@ void gbuf_alloc_attributes(GBuffer *g) {
   if (!g->normal) g->normal = xcalloc(n, sizeof *g->normal);
   if (!g->uv) g->uv = xcalloc(n, sizeof *g->uv);
   if (!g->position) g->position = xcalloc(n, sizeof *g->position);
-  gbuf_advise_huge(g->normal, n * sizeof *g->normal);
-  gbuf_advise_huge(g->uv, n * sizeof *g->uv);
-  gbuf_advise_huge(g->position, n * sizeof *g->position);
+  mem_advise_huge(g->normal, n * sizeof *g->normal);
+  mem_advise_huge(g->uv, n * sizeof *g->uv);
+  mem_advise_huge(g->position, n * sizeof *g->position);
 }

@@ -66,11 +66,4 @@ void gbuf_clear(GBuffer *g);
 /* Allocate the attribute planes (left as they are when already present). */
 void gbuf_alloc_attributes(GBuffer *g);
 
-/* Ask the kernel for transparent huge pages under a large, freshly
-** allocated render buffer (G-buffer planes, the output image) that is about
-** to be written: a 1080p float image takes ~6,000 page faults in 4 KiB
-** pages, a dozen in 2 MiB ones. Advice only; buffers under 4 MiB are left
-** alone. */
-void gbuf_advise_huge(void *p, size_t bytes);
-
 #endif

@@ -1033,7 +1033,7 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     mem_populate((*out)->data8, (size_t)f.width * f.height * nc);
   } else {
     *out = image_create(f.width, f.height, nc);
-    gbuf_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
+    mem_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
   }
   stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
   /* origami composes with meshes through the sample depths, so it needs the G-buffer */
