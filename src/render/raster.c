@@ -266,7 +266,11 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
   const float v0 = t->b2w[0], v1 = t->b2w[1], v2 = t->b2w[2];
   const float ox = t->ox;
   const int32_t object = t->object, face = t->face;
-  float *depth = rt->depth;
+  /* the target's planes in locals too: a store to one could alias rt */
+  float *restrict depth = rt->depth;
+  int32_t *restrict objects = rt->object, *restrict faces = rt->face;
+  float(*restrict bary)[2] = rt->bary;
+  uint16_t *restrict count = rt->count;
   for (int y = y0; y < y1; y++) {
     int64_t e0 = row0, e1 = row1, e2 = row2;
     float fy = (float)y + 0.5f - t->oy;             /* sample y relative to the plane origin */
@@ -282,7 +286,7 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
     for (; x < x1 && (e0 | e1 | e2) >= 0; x++, idx++) {
       float fx = (float)x + 0.5f - ox;
       float z = z0 + z1 * fx + z2 * fy;             /* depth is affine in screen space */
-      if (rt->count) rt->count[idx]++;
+      if (count) count[idx]++;
       if (z < depth[idx]) {                         /* nearer than what is there: keep it */
         /* b/w and 1/w are affine in screen space; their ratio is the
         ** perspective-correct barycentric */
@@ -291,10 +295,10 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
         float b2w = v0 + v1 * fx + v2 * fy;
         float inv = 1.0f / iw;
         depth[idx] = z;
-        rt->object[idx] = object;
-        rt->face[idx] = face;
-        rt->bary[idx][0] = b1w * inv;
-        rt->bary[idx][1] = b2w * inv;
+        objects[idx] = object;
+        faces[idx] = face;
+        bary[idx][0] = b1w * inv;
+        bary[idx][1] = b2w * inv;
       }
       e0 += step_x0;
       e1 += step_x1;
