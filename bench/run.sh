@@ -13,12 +13,12 @@
 # rendering work and for whole processes. Then sumi's per-stage times
 # (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and the peer
 # scripts in $SUMI_SHARED (default ../shared); without them that part is
-# skipped. RUNS sets the rounds per configuration (default 10; POV-Ray gets
+# skipped. RUNS sets the rounds per configuration (default 20: a run carries the image library's ~0.25 s load, whose spread is larger than a 512x512 frame; POV-Ray gets
 # RUNS / 2, at least 3).
 set -e
 SUMI=${1:-build/sumi}
 SHARED=${SUMI_SHARED:-../shared}
-RUNS=${RUNS:-10}
+RUNS=${RUNS:-20}
 POV_RUNS=$((RUNS / 2 > 3 ? RUNS / 2 : 3))
 DIR=build/bench
 SCENE=bench/teapot_toon.npr
