@@ -13,8 +13,9 @@
 # rendering work and for whole processes. Then sumi's per-stage times
 # (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and the peer
 # scripts in $SUMI_SHARED (default ../shared); without them that part is
-# skipped. RUNS sets the rounds per configuration (default 20: a run carries the image library's ~0.25 s load, whose spread is larger than a 512x512 frame; POV-Ray gets
-# RUNS / 2, at least 3).
+# skipped. RUNS sets the rounds per configuration (default 20: every run
+# carries the image library's ~0.25 s load, whose spread is larger than a
+# 512x512 frame takes; POV-Ray gets RUNS / 2, at least 3).
 set -e
 SUMI=${1:-build/sumi}
 SHARED=${SUMI_SHARED:-../shared}
