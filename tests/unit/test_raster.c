@@ -436,6 +436,29 @@ TEST(closed_mesh_has_no_cracks) {
   arena_free(&s.arena);
 }
 
+/* Drop the face of g whose centre lies farthest along dir (its indices
+** removed: tess_polygons skips a face without corners). */
+static void drop_face_toward(Scene *s, SceneGeometry *g, Vec3 dir) {
+  int drop = 0;
+  double best = -1e9;
+  for (int k = 0; k < g->nfaces; k++) {
+    Vec3 c = v3(0, 0, 0);
+    int nk = g->face_start[k + 1] - g->face_start[k];
+    for (int j = g->face_start[k]; j < g->face_start[k + 1]; j++) c = v3_add(c, v3_mul(g->verts[g->face_index[j]], 1.0 / nk));
+    if (v3_dot(c, dir) > best) { best = v3_dot(c, dir); drop = k; }
+  }
+  int *saved = arena_alloc(&s->arena, sizeof *saved * g->face_start[g->nfaces]);
+  memcpy(saved, g->face_index, sizeof *saved * g->face_start[g->nfaces]);
+  int m = 0;
+  for (int k = 0; k < g->nfaces; k++) {
+    int a = g->face_start[k], b = g->face_start[k + 1];
+    g->face_start[k] = m;
+    if (k == drop) continue;
+    for (int j = a; j < b; j++) g->face_index[m++] = saved[j];
+  }
+  g->face_start[g->nfaces] = m;
+}
+
 /* Back faces are skipped only where they cannot show: a closed, outward
 ** mesh seen from outside. Inside it, or turned inside out, or opened,
 ** every face is drawn. Skipping never changes a visible sample. */
@@ -453,29 +476,9 @@ TEST(back_face_culling_only_when_hidden) {
   GBuffer *gc, *go;
   Image *closed, *open;
   CHECK_EQ_INT(render_scene(&s, &o, &closed, &gc), 0);
-  /* opened: the face farthest from the camera moved to the end and dropped;
-  ** every face is drawn then, and the picture is the same */
-  SceneGeometry *g = s.objects[0].geometry;
-  int far = 0;
-  double best = 1e9;
-  for (int k = 0; k < g->nfaces; k++) {
-    Vec3 c = v3(0, 0, 0);
-    int nk = g->face_start[k + 1] - g->face_start[k];
-    for (int j = g->face_start[k]; j < g->face_start[k + 1]; j++) c = v3_add(c, v3_mul(g->verts[g->face_index[j]], 1.0 / nk));
-    if (v3_dot(c, toward) < best) { best = v3_dot(c, toward); far = k; }
-  }
-  int *saved = arena_alloc(&s.arena, sizeof *saved * g->face_start[g->nfaces]);
-  memcpy(saved, g->face_index, sizeof *saved * g->face_start[g->nfaces]);
-  int m = 0;   /* rebuild without face far */
-  for (int k = 0, start = 0; k < g->nfaces; k++) {
-    int a = g->face_start[k], b = g->face_start[k + 1];
-    g->face_start[k] = start;
-    if (k == far) { g->face_start[k] = start; continue; }
-    for (int j = a; j < b; j++) g->face_index[m++] = saved[j];
-    start = m;
-  }
-  /* the dropped face now has no indices: tess_polygons skips it */
-  g->face_start[g->nfaces] = m;
+  /* opened: the face farthest from the camera dropped; every face is drawn
+  ** then, and the picture is the same */
+  drop_face_toward(&s, s.objects[0].geometry, v3_mul(toward, -1));
   CHECK(render_prepare(&s, &o, &f));
   CHECK_EQ_INT(f.objects[0].cull_back, 0);
   render_frame_free(&f);
@@ -486,6 +489,7 @@ TEST(back_face_culling_only_when_hidden) {
     differ += gc->object[i] != go->object[i] || memcmp(&closed->data[i * 3], &open->data[i * 3], 3 * sizeof(float)) != 0;
   CHECK(differ <= 2);   /* at most a sample on the outline */
   /* inside out (every face reversed): not culled */
+  SceneGeometry *g = s.objects[0].geometry;
   for (int k = 0; k < g->nfaces; k++)
     for (int a = g->face_start[k], b = g->face_start[k + 1] - 1; a < b; a++, b--) {
       int t = g->face_index[a]; g->face_index[a] = g->face_index[b]; g->face_index[b] = t;
@@ -511,6 +515,71 @@ TEST(back_face_culling_only_when_hidden) {
   gbuf_destroy(gc);
   gbuf_destroy(go);
   gbuf_destroy(gi);
+  arena_free(&s.arena);
+}
+
+/* The tile pass draws a tile's front faces first and skips a back face
+** that is nowhere nearer than what they drew. Depth is a minimum, the same
+** in any order, so the G-buffer's depth must equal that of every triangle
+** drawn in mesh order, with nothing skipped. The scene makes it matter: a
+** sphere opened toward the camera, its inside (back faces) seen through the
+** hole in front of a larger sphere behind it, whose front faces the first
+** pass drew there. */
+TEST(skipping_hidden_back_faces_keeps_the_depth) {
+  Scene s;
+  build_scene(&s, SHADE_PHONG);
+  s.output.samples = 1;
+  s.nobjects = 2;
+  s.objects[0].geometry = sphere_geometry(&s.arena, v3(0, 0, 0), 1, 24, 12);
+  s.objects[1].geometry = sphere_geometry(&s.arena, v3(0, 4.02, 0), 3, 24, 12);   /* just behind */
+  s.objects[0].transform = s.objects[1].transform = m4_identity();
+  s.camera = (SceneCamera){.present = 1, .kind = CAMERA_PERSPECTIVE, .position = v3(0, -5, 0.3),
+                           .look_at = v3(0, 0, 0), .up = v3(0, 0, 1), .fov = 40};
+  for (int k = 0; k < 8; k++) drop_face_toward(&s, s.objects[0].geometry, s.camera.position);
+  RenderOptions o = {.threads = 2};
+  RenderFrame f;
+  CHECK(render_prepare(&s, &o, &f));
+  int w = f.width, h = f.height;
+  size_t n = (size_t)w * h;
+  float *depth = malloc(n * sizeof *depth);
+  int32_t *object = malloc(n * sizeof *object), *face = malloc(n * sizeof *face);
+  float(*bary)[2] = malloc(n * sizeof *bary);
+  for (size_t i = 0; i < n; i++) depth[i] = GBUF_NO_DEPTH;
+  RastTarget rt = {0, 0, w, h, 0, 0, w, depth, object, face, bary, NULL};
+  for (int i = 0; i < f.nobjects; i++) {
+    const RenderObject *ro = &f.objects[i];
+    RastVert *rv = malloc(((size_t)ro->mesh->nverts + 1) * sizeof *rv);
+    for (int v = 0; v < ro->mesh->nverts; v++) {
+      double clip[4];
+      camera_to_clip(&f.camera, v3(ro->wpos[v][0], ro->wpos[v][1], ro->wpos[v][2]), clip);
+      rast_vertex(&rv[v], clip, w, h);
+    }
+    for (int t = 0; t < ro->mesh->ntris; t++) {
+      RastTriList list = {0};
+      const int *c = ro->mesh->tri[t];
+      const RastVert *tv[3] = {&rv[c[0]], &rv[c[1]], &rv[c[2]]};
+      rast_emit(&list, tv, i, t, w, h);
+      for (int k = 0; k < list.n; k++) rast_triangle(&list.tris[k], &rt);
+      rast_list_free(&list);
+    }
+    free(rv);
+  }
+  Image *img;
+  GBuffer *gb;
+  CHECK_EQ_INT(render_scene(&s, &o, &img, &gb), 0);
+  CHECK(gb->width == w && gb->height == h);
+  CHECK(memcmp(depth, gb->depth, n * sizeof *depth) == 0);
+  int inside = 0;   /* the test sees back faces: samples of the spheres' insides */
+  for (size_t i = 0; i < n; i++)
+    inside += gb->object[i] >= 0 && f.objects[gb->object[i]].backfacing[gb->face[i]];
+  CHECK(inside > 20);
+  render_frame_free(&f);
+  image_destroy(img);
+  gbuf_destroy(gb);
+  free(depth);
+  free(object);
+  free(face);
+  free(bary);
   arena_free(&s.arena);
 }
 
@@ -605,6 +674,7 @@ int main(void) {
   RUN(identical_bytes_at_1_2_8_threads);
   RUN(closed_mesh_has_no_cracks);
   RUN(back_face_culling_only_when_hidden);
+  RUN(skipping_hidden_back_faces_keeps_the_depth);
   RUN(non_finite_geometry_is_dropped);
   RUN(limits_are_diagnosed);
   RUN(empty_scene_is_background);
