@@ -785,16 +785,42 @@ static void put_row(const TileJob *job, int x0, int y, int n, const float *prow)
                   img->channels);
 }
 
-/* One sample a pixel: the sample is the pixel. */
+/* One sample a pixel: the sample is the pixel. A float image is shaded in
+** place. An 8-bit one gets each row's shaded runs encoded and its
+** background runs copied from a row of background codes: most rows hold
+** background only and are not shaded at all. */
 static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *samp, float *prow) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
-  int nc = job->out->channels;       /* 3, or 4 with alpha */
+  const Image *img = job->out;
+  int nc = img->channels, n = rt->x1 - rt->x0;   /* 3, or 4 with alpha */
+  uint8_t bgrow[RENDER_TILE * 4];
+  if (img->data8) {
+    image_encode8(bgu, bgrow, 1, nc);
+    for (int x = 1; x < n; x++) memcpy(bgrow + x * nc, bgrow, (size_t)nc);
+  }
   for (int y = rt->y0; y < rt->y1; y++) {
-    float *o = row_out(job, rt->x0, y, prow);
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-    shade_row(job, rt, i, rt->x1 - rt->x0, o, nc, bgu, samp);
-    put_row(job, rt->x0, y, rt->x1 - rt->x0, o);
+    size_t at = ((size_t)y * img->width + rt->x0) * nc;
+    if (!img->data8) {
+      shade_row(job, rt, i, n, &img->data[at], nc, bgu, samp);
+      continue;
+    }
+    const int32_t *obj = rt->object + i;
+    uint8_t *d = &img->data8[at];
+    int k = 0;
+    while (k < n && obj[k] < 0) k++;
+    if (k == n) {
+      memcpy(d, bgrow, (size_t)(n * nc));
+      continue;
+    }
+    shade_row(job, rt, i, n, prow, nc, bgu, samp);
+    for (int e, j = 0; j < n; j = e) {   /* runs of background and of shaded samples */
+      int back = obj[j] < 0;
+      for (e = j + 1; e < n && (obj[e] < 0) == back; e++) {}
+      if (back) memcpy(d + j * nc, bgrow, (size_t)((e - j) * nc));
+      else image_encode8(prow + j * nc, d + j * nc, (size_t)(e - j), nc);
+    }
   }
 }
 
