@@ -194,19 +194,22 @@ static size_t image_values(const Image *img) {
 
 /* Encode npix pixels of nc channels (alpha at ac, or -1) to 8-bit codes.
 ** Flat regions are the rule in stylised images, so a pixel whose bits
-** equal the one before it reuses its codes (equal bits, equal codes). */
+** equal the one before it reuses its codes (equal bits, equal codes); in
+** RGB a whole run of them is encoded once and copied in a few long stores
+** (a 3-byte store a pixel costs more than the encoding). */
 static void encode_pixels8(const float *src, uint8_t *dst, size_t npix, int nc, int ac) {
-  if (nc == 3 && ac < 0) {   /* opaque RGB, the common case, unrolled */
-    uint32_t prev[3] = {0, 0, 0};
-    for (size_t p = 0; p < npix; p++, src += 3, dst += 3) {
-      uint32_t u[3];
-      memcpy(u, src, sizeof u);
-      if (p > 0 && u[0] == prev[0] && u[1] == prev[1] && u[2] == prev[2]) {
-        dst[0] = dst[-3]; dst[1] = dst[-2]; dst[2] = dst[-1];
-        continue;
+  if (nc == 3 && ac < 0) {   /* opaque RGB, the common case: a run of equal pixels at a time */
+    for (size_t p = 0, q; p < npix; p = q) {
+      const float *a = src + 3 * p;
+      for (q = p + 1; q < npix && !memcmp(src + 3 * q, a, 3 * sizeof *a); q++) {}
+      uint8_t *d = dst + 3 * p;
+      d[0] = encode8(a[0]); d[1] = encode8(a[1]); d[2] = encode8(a[2]);
+      for (size_t done = 1, left = q - p - 1; left > 0;) {   /* copies double: few, long stores */
+        size_t k = done < left ? done : left;
+        memcpy(d + 3 * done, d, 3 * k);
+        done += k;
+        left -= k;
       }
-      dst[0] = encode8(src[0]); dst[1] = encode8(src[1]); dst[2] = encode8(src[2]);
-      prev[0] = u[0]; prev[1] = u[1]; prev[2] = u[2];
     }
     return;
   }
