@@ -151,6 +151,28 @@ static void round_trip_exact(const char *name, int ch) {
   image_destroy(back);
 }
 
+/* The row encoder (runs of equal pixels encoded once, then copied) gives
+** each pixel the code of the one-value encoder, for RGB and RGBA, over
+** runs of every length from 1 to 40 and values on both sides of codes. */
+TEST(row_encoder_matches_one_value_encoder) {
+  enum { NPIX = 820 };
+  float px[NPIX * 4];
+  uint8_t out[NPIX * 4];
+  for (int nc = 3; nc <= 4; nc++) {
+    int p = 0;
+    for (int run = 1; p < NPIX; run = run % 40 + 1)
+      for (int r = 0; r < run && p < NPIX; r++, p++)
+        for (int c = 0; c < nc; c++) px[p * nc + c] = (float)((run * 7 + c * 13) % 256) / 255.0f + (run % 3 - 1) * 1e-4f;
+    image_encode8(px, out, NPIX, nc);
+    int bad = 0;
+    for (int i = 0; i < NPIX * nc; i++) {
+      int want = nc == 4 && i % 4 == 3 ? (int)lrintf(fminf(fmaxf(px[i], 0), 1) * 255) : image_linear_to_srgb8(px[i]);
+      bad += out[i] != want;
+    }
+    CHECK_EQ_INT(bad, 0);
+  }
+}
+
 TEST(png_round_trip_exact) {
   round_trip_exact("grey.png", 1);
   round_trip_exact("grey_alpha.png", 2);
@@ -553,6 +575,7 @@ int main(void) {
   RUN(srgb_known_values);
   RUN(srgb_codes_round_trip);
   RUN(srgb_encoder_matches_formula);
+  RUN(row_encoder_matches_one_value_encoder);
   RUN(png_round_trip_exact);
   RUN(tiff_round_trip_exact);
   RUN(png16_round_trip);
