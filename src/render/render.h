@@ -138,8 +138,9 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
 
 /* The whole pipeline: prepare, rasterize, shade, lines. *out receives a
 ** new image (image_destroy): RGB when the background is opaque, else RGBA
-** (unassociated alpha). Returns 0 on success, 1 when the scene cannot be
-** rendered (diagnostics reported). */
+** (unassociated alpha); 8-bit (Image.data8) when o->out8 asks and no
+** origami sheet is composited over it, else float. Returns 0 on success, 1
+** when the scene cannot be rendered (diagnostics reported). */
 int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out);
 
 /* Fill the attribute planes (normal, uv, position) of g from f. */
