@@ -160,17 +160,18 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     LineObjEdges *oe = &out->obj[i];
     oe->mesh = m;
     oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
-    /* scratch: world positions, then face normals, in one mapping */
-    size_t world_bytes = ((size_t)m->nverts + 1) * sizeof(Vec3);
-    size_t scratch_bytes = world_bytes + ((size_t)m->ntris + 1) * sizeof(Vec3);
-    Vec3 *world = line_big_zalloc(scratch_bytes);
-    Vec3 *fn = world + m->nverts + 1;
+    /* scratch, every entry written before it is read: world positions and
+    ** face normals (from the heap, which keeps the earlier stages' freed,
+    ** already mapped memory for reuse) */
+    Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
+    Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
     if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
       oe->lines = NULL;
-      line_big_free(world, scratch_bytes);
+      free(world);
+      free(fn);
       continue;
     }
     face_normals(fn, oe->front, m, world, cam);
@@ -197,7 +198,8 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
       }
       build_adjacency(oe, m, out->edge_of + first, out->n - first);
     }
-    line_big_free(world, scratch_bytes);
+    free(world);
+    free(fn);
   }
 }
 
@@ -260,7 +262,7 @@ void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int 
 
 /* ---- buffers ------------------------------------------------------------- */
 
-#define BIG_BUFFER (4u << 20)   /* from here on, map zeroed memory with huge pages */
+#define BIG_BUFFER (32u << 20)   /* from here on, map zeroed memory with huge pages */
 #define HUGE_PAGE (2u << 20)
 
 void *line_big_zalloc(size_t n) {
