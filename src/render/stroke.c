@@ -450,7 +450,10 @@ static void composite(const Band *b, const Stroke *st, Image *target, int ya, in
       if (a <= 0) continue;
       float p8[4], *p = target->data ? target->data + row + (size_t)x * ch : p8;
       uint8_t *code = target->data8 ? target->data8 + row + (size_t)x * ch : NULL;
-      if (code) image_decode8(code, p, 1, ch);   /* an 8-bit image: mix in linear, encode again */
+      /* an 8-bit image: mix in linear, encode again. It holds the fill as
+      ** it shows (clamped to 1), so partial ink mixes with what is seen; a
+      ** float image keeps fill above 1, which shows through partial ink */
+      if (code) image_decode8(code, p, 1, ch);
       composite_pixel(p, alpha, ncol, col, a);
       if (code) image_encode8(p, code, 1, ch);
     }
