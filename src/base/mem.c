@@ -54,11 +54,17 @@ void *xgrow(void *items, int *cap, int need, size_t elem) {
   return xrealloc(items, (size_t)c * elem);
 }
 
+#if defined(MADV_HUGEPAGE) || defined(MADV_POPULATE_WRITE)
+/* madvise(advice) on the whole pages of size page inside [p, p + n). */
+static void advise_inside(void *p, size_t n, uintptr_t page, int advice) {
+  uintptr_t lo = ((uintptr_t)p + page - 1) & ~(page - 1), hi = ((uintptr_t)p + n) & ~(page - 1);
+  if (hi > lo) madvise((void *)lo, hi - lo, advice);   /* a hint: failure only costs speed */
+}
+#endif
+
 void mem_advise_huge(void *p, size_t n) {
 #ifdef MADV_HUGEPAGE
-  const uintptr_t huge = (uintptr_t)2 << 20;
-  uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1), hi = ((uintptr_t)p + n) & ~(huge - 1);
-  if (hi > lo) madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+  advise_inside(p, n, (uintptr_t)2 << 20, MADV_HUGEPAGE);
 #else
   (void)p;
   (void)n;
@@ -67,9 +73,7 @@ void mem_advise_huge(void *p, size_t n) {
 
 void mem_populate(void *p, size_t n) {
 #ifdef MADV_POPULATE_WRITE
-  const uintptr_t page = 4096;
-  uintptr_t lo = ((uintptr_t)p + page - 1) & ~(page - 1), hi = ((uintptr_t)p + n) & ~(page - 1);
-  if (hi > lo) madvise((void *)lo, hi - lo, MADV_POPULATE_WRITE);
+  advise_inside(p, n, 4096, MADV_POPULATE_WRITE);
 #else
   (void)p;
   (void)n;
