@@ -147,8 +147,7 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     const SceneLines *ls = objs[i].lines;
     double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
     if (!(factor > 0)) factor = 0;
-    size_t sbytes = ((size_t)m->nverts + 1) * sizeof(ScreenVert);
-    ScreenVert *sv = line_big_zalloc(sbytes);
+    ScreenVert *sv = xcalloc((size_t)m->nverts + 1, sizeof *sv);   /* in = 0 behind the near plane */
     for (int k = 0; k < m->nverts; k++) {
       const double *c = v[k].clip;
       if (c[2] + c[3] >= 0 && c[3] > 0) {
@@ -168,7 +167,7 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
         add_clipped(l, cc, i, t, factor, w, h, sat);
       }
     }
-    line_big_free(sv, sbytes);
+    free(sv);
   }
 }
 

@@ -10,7 +10,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
 #include "../base/mem.h"
 
@@ -83,8 +82,7 @@ static void build_adjacency(LineObjEdges *oe, const Mesh *m, const int *imp, int
 /* World positions, clip coordinates and reference pixels of m's vertices. */
 static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
                              const Camera *cam) {
-  oe->vert_bytes = ((size_t)m->nverts + 1) * sizeof *oe->vert;
-  oe->vert = line_big_zalloc(oe->vert_bytes);
+  oe->vert = xcalloc((size_t)m->nverts + 1, sizeof *oe->vert);   /* x, y stay 0 behind the eye */
   const double(*M)[4] = cam->world_to_clip.m;
   double fw = 0.5 * cam->width, fh = 0.5 * cam->height;
   for (int v = 0; v < m->nverts; v++) {
@@ -205,7 +203,7 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
 
 void line_edges_free(LineEdges *e) {
   for (int i = 0; i < e->nobj; i++) {
-    line_big_free(e->obj[i].vert, e->obj[i].vert_bytes);
+    free(e->obj[i].vert);
     free(e->obj[i].id);
     free(e->obj[i].adj_start);
     free(e->obj[i].adj);
@@ -259,27 +257,3 @@ void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int 
   free(th);
   free(arg);
 }
-
-/* ---- buffers ------------------------------------------------------------- */
-
-#define BIG_BUFFER (32u << 20)   /* from here on, map zeroed memory with huge pages */
-#define HUGE_PAGE (2u << 20)
-
-void *line_big_zalloc(size_t n) {
-  if (n < BIG_BUFFER) return xcalloc(n ? n : 1, 1);
-  size_t len = n + HUGE_PAGE;
-  unsigned char *p = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (p == MAP_FAILED) sumi_fatal("out of memory mapping %zu bytes", n);
-  size_t head = (HUGE_PAGE - (uintptr_t)p % HUGE_PAGE) % HUGE_PAGE;
-  if (head) munmap(p, head);
-  if (HUGE_PAGE - head) munmap(p + head + n, HUGE_PAGE - head);
-  madvise(p + head, n, MADV_HUGEPAGE);   /* a hint: failure only costs speed */
-  return p + head;
-}
-
-void line_big_free(void *p, size_t n) {
-  if (!p) return;
-  if (n < BIG_BUFFER) free(p);
-  else munmap(p, n);
-}
-

@@ -34,7 +34,6 @@ typedef struct LineObjEdges {
   const Mesh *mesh;
   const SceneLines *lines; /* NULL when the object draws no lines */
   LineVert *vert;          /* mesh->nverts projected vertices */
-  size_t vert_bytes;       /* vert's allocation (line_big_zalloc) */
   int *id;                 /* per mesh edge: global id (1-based), 0 = not important */
   int *adj_start;          /* nverts + 1 offsets into adj: the vertex -> edge graph
                               of the important edges (the only ones linking walks) */
@@ -70,11 +69,5 @@ void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int 
 ** world face normals (zero for a degenerate face). Exposed for tests. */
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam);
-
-/* n zeroed bytes for a frame-sized buffer. Big ones are mapped on 2 MiB
-** boundaries with MADV_HUGEPAGE, so they cost a few page faults instead of
-** thousands. Free with line_big_free(p, n) (the same n). */
-void *line_big_zalloc(size_t n);
-void line_big_free(void *p, size_t n);
 
 #endif

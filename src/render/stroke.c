@@ -508,12 +508,12 @@ void stroke_render(const StrokeList *sl, Image *target, int threads) {
   StrokeJob job = {sl, target, nbands, xmalloc((size_t)nw * sizeof(float *)),
                    xmalloc((size_t)nw * sizeof(int *)), band_h};
   for (int w = 0; w < nw; w++) {
-    job.cov[w] = line_big_zalloc((size_t)target->width * band_h * sizeof(float));
+    job.cov[w] = xcalloc((size_t)target->width * band_h, sizeof(float));
     job.rows[w] = xmalloc((size_t)band_h * 2 * sizeof(int));
   }
   line_parallel(nbands, nw, stroke_band, &job);
   for (int w = 0; w < nw; w++) {
-    line_big_free(job.cov[w], (size_t)target->width * band_h * sizeof(float));
+    free(job.cov[w]);
     free(job.rows[w]);
   }
   free(job.cov);
