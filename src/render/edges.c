@@ -6,7 +6,6 @@
 #include "edges.h"
 
 #include <pthread.h>
-#include <stdint.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,15 +46,11 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const int *tri_face, con
   return kind;
 }
 
-static unsigned edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
-                          const SceneLines *ls, double crease_cos, const Camera *cam) {
-  return edge_kind_at(&m->edges[e], m->tri_face, world, fn, ls->kinds, crease_cos,
-                      cam->kind == CAMERA_ORTHO, cam->forward, cam->eye);
-}
-
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam) {
-  return edge_kind(m, e, world, fn, ls, cos(ls->crease_angle * M_PI / 180.0), cam);
+  return edge_kind_at(&m->edges[e], m->tri_face, world, fn, ls->kinds,
+                      cos(ls->crease_angle * M_PI / 180.0), cam->kind == CAMERA_ORTHO, cam->forward,
+                      cam->eye);
 }
 
 /* ---- per object --------------------------------------------------------- */
@@ -188,7 +183,7 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
           __builtin_prefetch(&world[ahead->v[0]]);
         }
 #endif
-        unsigned kind = edge_kind_at(&m->edges[e], m->tri_face, world, fn, want, crease_cos, ortho,
+        unsigned kind = edge_kind_at(&me[e], m->tri_face, world, fn, want, crease_cos, ortho,
                                      cam->forward, cam->eye);
         if (!kind) continue;
         add_edge(out, &cap, i, e, kind);

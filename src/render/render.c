@@ -738,8 +738,8 @@ static void shade_tri_init(const TileJob *job, int obj, int face, ShadeTri *t) {
 ** background bg where nothing was drawn. Two passes: rebuild the surface
 ** at every drawn sample into samp (per run of one triangle, whose
 ** constants are set up once), then shade them, one model call per run of
-** one object. The samples of the first pass are independent of each
-** other, so their square roots and divisions overlap. */
+** one object. The first pass normalises the row's normals and view
+** vectors together (shade_unit_lengths), several lanes at a time. */
 static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, float *out, int nc,
                       const float bg[4], ShadeSample *samp) {
   const int32_t *obj = rt->object + i, *face = rt->face + i;

@@ -6,10 +6,12 @@
 **   shade_toon.c  toon: T_n bands on the diffuse and specular terms
 **                 separately, or 1D colour ramps, and the n.v silhouette
 **                 edge (004; 002 section 2)
-** The tile pass shades a row of samples in two steps: shade_tri_sample
-** rebuilds each sample's surface from its triangle's corners (ShadeTri,
-** set up once per run of samples of one triangle), then the model's span
-** shader (shade_span_model) colours each run of samples of one object.
+** The tile pass shades a row of samples in two steps: it rebuilds each
+** sample's surface from its triangle's corners (shade_tri_sample_raw, with
+** ShadeTri set up once per run of samples of one triangle, then
+** shade_unit_lengths and shade_sample_unit for the whole row), and the
+** model's span shader (shade_span_model) colours each run of samples of
+** one object.
 ** The lighting equation every lit model shares (002 eq. 1):
 **   I = m_a l_a + sum_i m_d T(f_d) l_i + sum_i m_s T(f_s) l_i
 ** with m_a = m_d = the style's base colour, l_a = ambient (white),
@@ -57,7 +59,7 @@ typedef struct ShadeTri {
   int want_uv;                   /* interpolate ShadeSample.uv (else 0) */
 } ShadeTri;
 
-/* Shade n samples of one object, s[0..n-1] (built by shade_tri_sample),
+/* Shade n samples of one object, s[0..n-1] (rebuilt as above),
 ** into rgb: sample k's colour at rgb[k * stride + 0..2]. */
 typedef void (*ShadeSpanFn)(const ShadeSample *s, int n, float *rgb, int stride);
 
@@ -117,7 +119,7 @@ static inline void shade_tri_sample_raw(const ShadeTri *t, float b1, float b2, S
 ** several lanes at a time (IEEE square root and division, so the results
 ** are those of one at a time). */
 static inline void shade_unit_lengths(float *restrict nn, float *restrict vv, int n) {
-  for (int k = 0; k < n; k++) {   /* no branches, so that it runs in lanes (1 / 0 is inf, not a trap) */
+  for (int k = 0; k < n; k++) {   /* no branches (1 / 0 is inf, not a trap), so it runs in lanes */
     float a = fabsf(nn[k]), b = vv[k];
     float ia = 1 / sqrtf(a), ib = 1 / sqrtf(b);
     nn[k] = copysignf(a > 0 ? ia : 0, nn[k]);
