@@ -154,25 +154,25 @@ float image_srgb8_to_linear(int code) {
 
 /* ---- Image ------------------------------------------------------------- */
 
-Image *image_create(int w, int h, int channels) {
-  if (w <= 0 || h <= 0 || channels < 1 || channels > IMAGE_MAX_CHANNELS)
-    sumi_fatal("image_create: bad size %dx%d with %d channels", w, h, channels);
-  Image *img = xmalloc(sizeof *img);
-  img->width = w;
-  img->height = h;
-  img->channels = channels;
-  img->data = xcalloc((size_t)w * (size_t)h * (size_t)channels, sizeof(float));
-  img->data8 = NULL;
-  return img;
-}
-
-Image *image_create8(int w, int h, int channels) {
-  if (w <= 0 || h <= 0 || channels < 1 || channels > 4)
-    sumi_fatal("image_create8: bad size %dx%d with %d channels", w, h, channels);
+/* An image with no pixels yet; bad sizes end the program (image.h). */
+static Image *image_shell(int w, int h, int channels, int max_channels, const char *who) {
+  if (w <= 0 || h <= 0 || channels < 1 || channels > max_channels)
+    sumi_fatal("%s: bad size %dx%d with %d channels", who, w, h, channels);
   Image *img = xcalloc(1, sizeof *img);
   img->width = w;
   img->height = h;
   img->channels = channels;
+  return img;
+}
+
+Image *image_create(int w, int h, int channels) {
+  Image *img = image_shell(w, h, channels, IMAGE_MAX_CHANNELS, "image_create");
+  img->data = xcalloc((size_t)w * (size_t)h * (size_t)channels, sizeof(float));
+  return img;
+}
+
+Image *image_create8(int w, int h, int channels) {
+  Image *img = image_shell(w, h, channels, 4, "image_create8");
   img->data8 = xcalloc((size_t)w * (size_t)h * (size_t)channels, 1);
   return img;
 }
