@@ -663,9 +663,7 @@ typedef struct TileJob {
   GBuffer *full;               /* whole G-buffer, or NULL: per-worker tile planes */
   Image *out;
   ShadeSpanFn *span;           /* per style: its model's span shader */
-  float eye[3], back[3];       /* camera position; -forward (ortho view vector) */
-  int ortho;
-  int want_uv;                 /* some style's model reads ShadeSample.uv */
+  ShadeView view;              /* the camera as the rebuild needs it */
   atomic_int next;
 } TileJob;
 
@@ -678,7 +676,8 @@ typedef struct Worker {
   float (*bary)[2];
   float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
   float *prow;                 /* a tile row of pixels bound for an 8-bit image */
-  ShadeSample *samp;           /* a tile row's rebuilt surface samples */
+  ShadeRow row;                /* a tile row's rebuilt surface samples */
+  float *row_planes;           /* the planes row points into */
   double raster_s, shade_s;
 } Worker;
 
@@ -715,46 +714,25 @@ static RastTarget tile_target(Worker *w, int tx, int ty) {
   return rt;
 }
 
-/* The constants of triangle face of object obj for shading its samples. */
-static void shade_tri_init(const TileJob *job, int obj, int face, ShadeTri *t) {
-  const RenderObject *o = &job->f->objects[obj];
-  const int *v = o->mesh->tri[face];
-  t->frame = job->f;
-  t->obj = o;
-  t->face = face;
-  t->vert = v;
-  for (int k = 0; k < 3; k++) {
-    t->p[k] = o->wpos[v[k]];
-    t->n[k] = o->wcnrm ? o->wcnrm[face][k] : o->wnrm[v[k]];   /* hard edges: corner normals */
-  }
-  t->back = o->backfacing[face];
-  t->ortho = job->ortho;
-  for (int k = 0; k < 3; k++) { t->eye[k] = job->eye[k]; t->view[k] = job->back[k]; }
-  t->want_uv = job->want_uv;
-}
-
 /* Shade the n samples of a tile row starting at plane index i into out,
 ** nc floats a sample (3 or 4; the 4th is the alpha: 1 where shaded), the
 ** background bg where nothing was drawn. Two passes: rebuild the surface
-** at every drawn sample into samp (per run of one triangle, whose
-** constants are set up once), then shade them, one model call per run of
-** one object. The first pass normalises the row's normals and view
-** vectors together (shade_unit_lengths), several lanes at a time. */
+** at every drawn sample into the worker's row, per run of one triangle,
+** and normalise the row's normals and view vectors together; then shade
+** them, one span call per run of one object. */
 static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, float *out, int nc,
-                      const float bg[4], ShadeSample *samp) {
+                      const float bg[4], ShadeRow *row) {
   const int32_t *obj = rt->object + i, *face = rt->face + i;
-  const float(*bary)[2] = (const float(*)[2])rt->bary + i;
+  const RenderObject *objects = job->f->objects;
   float nn[RENDER_TILE * RENDER_MAX_SAMPLES], vv[RENDER_TILE * RENDER_MAX_SAMPLES];
+  row->face = face;
+  row->bary = (const float(*)[2])rt->bary + i;
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface */
     if (obj[k] < 0) { nn[k] = vv[k] = 0; e = k + 1; continue; }
     for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
-    ShadeTri t;
-    shade_tri_init(job, obj[k], face[k], &t);
-    for (int j = k; j < e; j++) shade_tri_sample_raw(&t, bary[j][0], bary[j][1], &samp[j], &nn[j], &vv[j]);
+    shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e, nn, vv);
   }
-  shade_unit_lengths(nn, vv, n);                        /* background lanes: 0, unused */
-  for (int k = 0; k < n; k++)
-    if (obj[k] >= 0) shade_sample_unit(&samp[k], nn[k], vv[k]);
+  shade_row_unit(row, nn, vv, n);                       /* background lanes: 0, unused */
   for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
     if (obj[k] < 0) {                                    /* a run of background */
       for (e = k; e < n && obj[e] < 0; e++) {
@@ -765,7 +743,8 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, fl
       continue;
     }
     for (e = k + 1; e < n && obj[e] == obj[k]; e++) {}
-    job->span[samp[k].obj->style - job->f->styles](samp + k, e - k, out + k * nc, nc);
+    const RenderObject *o = &objects[obj[k]];
+    job->span[o->style - job->f->styles](row, o, k, e, out, nc);
     if (nc == 4)
       for (int j = k; j < e; j++) out[j * 4 + 3] = 1;
   }
@@ -789,7 +768,7 @@ static void put_row(const TileJob *job, int x0, int y, int n, const float *prow)
 ** place. An 8-bit one gets each row's shaded runs encoded and its
 ** background runs copied from a row of background codes: most rows hold
 ** background only and are not shaded at all. */
-static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *samp, float *prow) {
+static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeRow *row, float *prow) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
   const Image *img = job->out;
@@ -803,7 +782,7 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
     size_t at = ((size_t)y * img->width + rt->x0) * nc;
     if (!img->data8) {
-      shade_row(job, rt, i, n, &img->data[at], nc, bgu, samp);
+      shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
       continue;
     }
     const int32_t *obj = rt->object + i;
@@ -814,7 +793,7 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *
       memcpy(d, bgrow, (size_t)(n * nc));
       continue;
     }
-    shade_row(job, rt, i, n, prow, nc, bgu, samp);
+    shade_row(job, rt, i, n, prow, nc, bgu, row);
     for (int e, j = 0; j < n; j = e) {   /* runs of background and of shaded samples */
       int back = obj[j] < 0;
       for (e = j + 1; e < n && (obj[e] < 0) == back; e++) {}
@@ -826,13 +805,13 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeSample *
 
 /* Shade the samples of the tile and box-filter each pixel's N x N of them
 ** (premultiplied, over the background) into the output image; rows holds
-** N rows of the tile's samples, 4 floats each; samp a row of ShadeSample;
+** N rows of the tile's samples, 4 floats each; row the worker's ShadeRow;
 ** prow a row of pixels for an 8-bit image. */
-static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeSample *samp,
+static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeRow *row,
                        float *prow) {
   const RenderFrame *f = job->f;
   int N = f->samples;
-  if (N == 1) { shade_tile_1(job, rt, samp, prow); return; }
+  if (N == 1) { shade_tile_1(job, rt, row, prow); return; }
   Color bg = f->background;
   float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
   float nn = (float)(N * N), inv_nn = 1.0f / nn;
@@ -841,7 +820,7 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, Sh
   for (int py = rt->y0 / N; py < rt->y1 / N; py++) {
     for (int r = 0; r < N; r++) {    /* the pixel row's N sample rows, shaded */
       int i = (py * N + r - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-      shade_row(job, rt, i, n, rows + (size_t)r * n * 4, 4, bgp, samp);
+      shade_row(job, rt, i, n, rows + (size_t)r * n * 4, 4, bgp, row);
     }
     float *o = row_out(job, rt->x0 / N, py, prow), *o0 = o;
     for (int px = 0; px < n / N; px++, o += nc) {
@@ -901,7 +880,7 @@ static void *tile_worker(void *arg) {
     if (first_back < b->start[k + 1])   /* behind all the front faces drawn: skipped */
       raster_items(b, first_back, b->start[k + 1], tile_far(&rt), &rt);
     double t1 = stats_now();
-    shade_tile(job, &rt, w->rows, w->samp, w->prow);
+    shade_tile(job, &rt, w->rows, &w->row, w->prow);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
   }
@@ -920,7 +899,11 @@ static void run_workers(TileJob *job, int nthreads) {
       ws[i].face = xmalloc(n * sizeof *ws[i].face);
       ws[i].bary = xmalloc(n * sizeof *ws[i].bary);
     }
-    ws[i].samp = xmalloc(side * sizeof *ws[i].samp);
+    float *pl = ws[i].row_planes = xcalloc(11 * side, sizeof *pl);   /* p, n, v, uv */
+    ws[i].row = (ShadeRow){.frame = job->f, .px = pl, .py = pl + side, .pz = pl + 2 * side,
+                           .nx = pl + 3 * side, .ny = pl + 4 * side, .nz = pl + 5 * side,
+                           .vx = pl + 6 * side, .vy = pl + 7 * side, .vz = pl + 8 * side,
+                           .u = pl + 9 * side, .v = pl + 10 * side};
     if (job->f->samples > 1)
       ws[i].rows = xmalloc((size_t)job->f->samples * side * 4 * sizeof *ws[i].rows);
     ws[i].prow = xmalloc(side * 4 * sizeof *ws[i].prow);
@@ -944,7 +927,7 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].bary);
     free(ws[i].rows);
     free(ws[i].prow);
-    free(ws[i].samp);
+    free(ws[i].row_planes);
   }
   free(ws);
   free(tid);
@@ -971,13 +954,13 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   job.f = f;
   job.bins = &bins;
   job.out = out;
-  job.ortho = f->camera.kind == CAMERA_ORTHO;
-  set3(job.eye, f->camera.eye);
-  set3(job.back, v3_mul(f->camera.forward, -1));
+  job.view.ortho = f->camera.kind == CAMERA_ORTHO;
+  set3(job.view.eye, f->camera.eye);
+  set3(job.view.back, v3_mul(f->camera.forward, -1));
   job.span = xmalloc((size_t)f->nstyles * sizeof *job.span);
   for (int i = 0; i < f->nstyles; i++) {
     job.span[i] = shade_span_model(f->styles[i].kind);
-    job.want_uv |= shade_reads_uv(f->styles[i].kind);
+    job.view.want_uv |= shade_reads_uv(f->styles[i].kind);
   }
   atomic_init(&job.next, 0);
   if (gbuf_out) {

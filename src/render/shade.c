@@ -44,10 +44,14 @@ ShadeSpanFn shade_span_model(ShadeKind kind) {
   return kind == SHADE_TOON ? shade_toon_span : shade_span_generic;
 }
 
-void shade_span_generic(const ShadeSample *s, int n, float *rgb, int stride) {
-  if (n <= 0) return;
-  ShadeFn fn = shade_model(s->obj->style->kind);
-  for (int k = 0; k < n; k++, rgb += stride) fn(&s[k], rgb);
+void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                        int stride) {
+  ShadeFn fn = shade_model(o->style->kind);
+  ShadeSample s;
+  for (int k = k0; k < k1; k++) {
+    shade_row_sample(r, o, k, &s);
+    fn(&s, rgb + (size_t)k * stride);
+  }
 }
 
 int shade_reads_uv(ShadeKind kind) {
@@ -81,6 +85,91 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->edge_color[0] = t->edge_color.r;
   rs->edge_color[1] = t->edge_color.g;
   rs->edge_color[2] = t->edge_color.b;
+}
+
+/* ---- rows of samples ---------------------------------------------------- */
+
+/* The per-sample loop of shade_row_rebuild for corners c (p0, p1, p2,
+** n0, n1, n2). Restrict parameters: the planes overlap neither each other
+** nor the corners, so the loop runs several samples at a time. */
+static void rebuild_lanes(const float c[6][3], const ShadeView *view, int flip, int k0, int k1,
+                          const float *restrict bary, float *restrict px, float *restrict py,
+                          float *restrict pz, float *restrict nx, float *restrict ny,
+                          float *restrict nz, float *restrict vx, float *restrict vy,
+                          float *restrict vz, float *restrict nn, float *restrict vv) {
+  const float *p0 = c[0], *p1 = c[1], *p2 = c[2], *n0 = c[3], *n1 = c[4], *n2 = c[5];
+  const float *eye = view->eye, *back = view->back;
+  float sign = flip ? -1.0f : 1.0f;              /* a back face's normal turns around */
+  for (int k = k0; k < k1; k++) {
+    float b1 = bary[2 * k], b2 = bary[2 * k + 1], b0 = 1 - b1 - b2;
+    float x = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
+    float y = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
+    float z = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
+    float a = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
+    float b = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
+    float d = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
+    nn[k] = (a * a + b * b + d * d) * sign;
+    float ex = eye[0] - x, ey = eye[1] - y, ez = eye[2] - z;   /* toward the eye */
+    vx[k] = ex; vy[k] = ey; vz[k] = ez;
+    vv[k] = ex * ex + ey * ey + ez * ez;
+    px[k] = x; py[k] = y; pz[k] = z;
+    nx[k] = a; ny[k] = b; nz[k] = d;
+  }
+  if (view->ortho)                               /* the one unit view vector */
+    for (int k = k0; k < k1; k++) {
+      vx[k] = back[0]; vy[k] = back[1]; vz[k] = back[2]; vv[k] = 1;
+    }
+}
+
+void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
+                       int k0, int k1, float *nn, float *vv) {
+  const int *t = o->mesh->tri[face];
+  float c[6][3];   /* corner positions, then corner normals */
+  for (int i = 0; i < 3; i++) {
+    const float *p = o->wpos[t[i]];
+    const float *n = o->wcnrm ? o->wcnrm[face][i] : o->wnrm[t[i]];   /* hard edges: corner normals */
+    for (int j = 0; j < 3; j++) { c[i][j] = p[j]; c[3 + i][j] = n[j]; }
+  }
+  const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
+  rebuild_lanes(c, view, o->backfacing[face], k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz,
+                r->vx, r->vy, r->vz, nn, vv);
+  if (!view->want_uv) return;   /* no style reads uv: its planes stay 0 */
+  const Vec2 *uv = o->mesh->uv;
+  for (int k = k0; k < k1; k++) r->u[k] = r->v[k] = 0;
+  if (!uv) return;
+  for (int k = k0; k < k1; k++) {
+    float b1 = bary[2 * k], b2 = bary[2 * k + 1], b0 = 1 - b1 - b2;
+    r->u[k] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
+    r->v[k] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
+  }
+}
+
+void shade_row_unit(ShadeRow *r, float *restrict nn, float *restrict vv, int n) {
+  for (int k = 0; k < n; k++) {   /* no branches (1 / 0 is inf, not a trap), so it runs in lanes */
+    float a = fabsf(nn[k]), b = vv[k];
+    float ia = 1 / sqrtf(a), ib = 1 / sqrtf(b);
+    nn[k] = copysignf(a > 0 ? ia : 0, nn[k]);
+    vv[k] = b > 0 ? ib : 0;
+  }
+  float *restrict nx = r->nx, *restrict ny = r->ny, *restrict nz = r->nz;
+  float *restrict vx = r->vx, *restrict vy = r->vy, *restrict vz = r->vz;
+  for (int k = 0; k < n; k++) {
+    nx[k] *= nn[k]; ny[k] *= nn[k]; nz[k] *= nn[k];
+    vx[k] *= vv[k]; vy[k] *= vv[k]; vz[k] *= vv[k];
+  }
+}
+
+void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s) {
+  s->frame = r->frame;
+  s->obj = o;
+  s->face = r->face[k];
+  s->b1 = r->bary[k][0];
+  s->b2 = r->bary[k][1];
+  s->p[0] = r->px[k]; s->p[1] = r->py[k]; s->p[2] = r->pz[k];
+  s->n[0] = r->nx[k]; s->n[1] = r->ny[k]; s->n[2] = r->nz[k];
+  s->v[0] = r->vx[k]; s->v[1] = r->vy[k]; s->v[2] = r->vz[k];
+  s->uv[0] = r->u[k];
+  s->uv[1] = r->v[k];
 }
 
 /* ---- lights and terms ----------------------------------------------------- */

@@ -7,11 +7,10 @@
 **                 separately, or 1D colour ramps, and the n.v silhouette
 **                 edge (004; 002 section 2)
 ** The tile pass shades a row of samples in two steps: it rebuilds each
-** sample's surface from its triangle's corners (shade_tri_sample_raw, with
-** ShadeTri set up once per run of samples of one triangle, then
-** shade_unit_lengths and shade_sample_unit for the whole row), and the
-** model's span shader (shade_span_model) colours each run of samples of
-** one object.
+** sample's surface from its triangle's corners into a ShadeRow, plane by
+** plane (shade_row_rebuild per run of samples of one triangle, then
+** shade_row_unit for the whole row), and the model's span shader
+** (shade_span_model) colours each run of samples of one object.
 ** The lighting equation every lit model shares (002 eq. 1):
 **   I = m_a l_a + sum_i m_d T(f_d) l_i + sum_i m_s T(f_s) l_i
 ** with m_a = m_d = the style's base colour, l_a = ambient (white),
@@ -45,92 +44,62 @@ typedef void (*ShadeFn)(const ShadeSample *s, float rgb[3]);
 ** (their stages add it) shade as phong. */
 ShadeFn shade_model(ShadeKind kind);
 
-/* One triangle's constants, hoisted out of the loop over a run of its
-** samples (neighbouring samples mostly show the same triangle). */
-typedef struct ShadeTri {
+/* A row of samples rebuilt from the G-buffer, one plane per quantity
+** (structure of arrays), so the span shaders run several samples side by
+** side. Sample k of the row shows triangle face[k] of its object at
+** barycentrics bary[k] (the G-buffer's planes); the rebuilt planes hold its
+** world point p, unit shading normal n (turned toward the viewer on a back
+** face), unit vector v toward the viewer, and uv (0 unless some style
+** reads it). */
+typedef struct ShadeRow {
   const RenderFrame *frame;
-  const RenderObject *obj;
-  int face;                      /* triangle of obj->mesh */
-  const int *vert;               /* its vertex indices, obj->mesh->tri[face] */
-  const float *p[3], *n[3];      /* corner world positions and normals */
-  int back;                      /* it shows its back: normals turn around */
-  int ortho;                     /* view vector: back[] (ortho) or toward eye[] */
-  float eye[3], view[3];
-  int want_uv;                   /* interpolate ShadeSample.uv (else 0) */
-} ShadeTri;
+  const int32_t *face;
+  const float (*bary)[2];
+  float *px, *py, *pz;
+  float *nx, *ny, *nz;
+  float *vx, *vy, *vz;
+  float *u, *v;
+} ShadeRow;
 
-/* Shade n samples of one object, s[0..n-1] (rebuilt as above),
-** into rgb: sample k's colour at rgb[k * stride + 0..2]. */
-typedef void (*ShadeSpanFn)(const ShadeSample *s, int n, float *rgb, int stride);
+/* The camera as the rebuild needs it: the eye, or for an orthographic
+** camera the one view vector. */
+typedef struct ShadeView {
+  int ortho;
+  float eye[3];        /* perspective: v = normalise(eye - p) */
+  float back[3];       /* ortho: v = back (-forward, unit) */
+  int want_uv;         /* some style's model reads uv */
+} ShadeView;
+
+/* Rebuild samples k0..k1-1 of r, which all show triangle face of object o,
+** into r's planes, leaving the normal and view vector unnormalised: their
+** squared lengths go to nn[k] (negated on a back face, whose normal turns
+** toward the viewer) and vv[k]; shade_row_unit then normalises the row. */
+void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
+                       int k0, int k1, float *nn, float *vv);
+
+/* Scale the normals and view vectors of samples 0..n-1 of r to unit length
+** by the squared lengths shade_row_rebuild left in nn and vv (a zero
+** vector stays zero). Loops over plain floats, which the compiler runs
+** several lanes at a time; IEEE square root and division, so the results
+** are those of one sample at a time. */
+void shade_row_unit(ShadeRow *r, float *restrict nn, float *restrict vv, int n);
+
+/* Sample k of r, which shows object o, as one ShadeSample. */
+void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s);
+
+/* Shade samples k0..k1-1 of r, which all show object o, into rgb: sample
+** k's colour at rgb[k * stride + 0..2]. */
+typedef void (*ShadeSpanFn)(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                            int stride);
 
 /* The span shader for a shade kind: a model's own loop where it has one
 ** (toon), else shade_span_generic, which calls the kind's ShadeFn per
 ** sample. Both give the colours the ShadeFn gives, bit for bit. */
 ShadeSpanFn shade_span_model(ShadeKind kind);
-void shade_span_generic(const ShadeSample *s, int n, float *rgb, int stride);
-void shade_toon_span(const ShadeSample *s, int n, float *rgb, int stride);
-
-/* The sample of t at barycentrics (b1, b2) in two steps, so that a row's
-** square roots and divisions can run side by side (shade_unit_lengths):
-** shade_tri_sample_raw rebuilds the surface point, the uv, and the shading
-** normal and view vector before their normalisation, with their squared
-** lengths in *nn and *vv (*nn negated on a back face, whose normal turns
-** toward the viewer); shade_sample_unit then scales them by the factors
-** shade_unit_lengths made of those. */
-static inline void shade_tri_sample_raw(const ShadeTri *t, float b1, float b2, ShadeSample *s,
-                                        float *nn, float *vv) {
-  const float *p0 = t->p[0], *p1 = t->p[1], *p2 = t->p[2];
-  const float *n0 = t->n[0], *n1 = t->n[1], *n2 = t->n[2];
-  float b0 = 1 - b1 - b2;
-  s->frame = t->frame;
-  s->obj = t->obj;
-  s->face = t->face;
-  s->b1 = b1;
-  s->b2 = b2;
-  float px = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
-  float py = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
-  float pz = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
-  float nx = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
-  float ny = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
-  float nz = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
-  *nn = nx * nx + ny * ny + nz * nz;
-  if (t->back) *nn = -*nn;
-  float vx = t->view[0], vy = t->view[1], vz = t->view[2];
-  *vv = 1;                                  /* ortho: already unit */
-  if (!t->ortho) {                          /* toward the eye */
-    vx = t->eye[0] - px; vy = t->eye[1] - py; vz = t->eye[2] - pz;
-    *vv = vx * vx + vy * vy + vz * vz;
-  }
-  s->p[0] = px; s->p[1] = py; s->p[2] = pz;
-  s->n[0] = nx; s->n[1] = ny; s->n[2] = nz;
-  s->v[0] = vx; s->v[1] = vy; s->v[2] = vz;
-  s->uv[0] = s->uv[1] = 0;
-  if (t->want_uv && t->obj->mesh->uv) {
-    const Vec2 *uv = t->obj->mesh->uv;
-    const int *v = t->vert;
-    s->uv[0] = (float)(b0 * uv[v[0]].x + b1 * uv[v[1]].x + b2 * uv[v[2]].x);
-    s->uv[1] = (float)(b0 * uv[v[0]].y + b1 * uv[v[1]].y + b2 * uv[v[2]].y);
-  }
-}
-
-/* In place, for n samples: nn[k] becomes the factor that makes the normal
-** unit (negative on a back face, 0 for a zero normal), vv[k] the one for
-** the view vector. A plain loop over floats, which the compiler runs
-** several lanes at a time (IEEE square root and division, so the results
-** are those of one at a time). */
-static inline void shade_unit_lengths(float *restrict nn, float *restrict vv, int n) {
-  for (int k = 0; k < n; k++) {   /* no branches (1 / 0 is inf, not a trap), so it runs in lanes */
-    float a = fabsf(nn[k]), b = vv[k];
-    float ia = 1 / sqrtf(a), ib = 1 / sqrtf(b);
-    nn[k] = copysignf(a > 0 ? ia : 0, nn[k]);
-    vv[k] = b > 0 ? ib : 0;
-  }
-}
-
-static inline void shade_sample_unit(ShadeSample *s, float fn, float fv) {
-  s->n[0] *= fn; s->n[1] *= fn; s->n[2] *= fn;
-  s->v[0] *= fv; s->v[1] *= fv; s->v[2] *= fv;
-}
+void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                        int stride);
+void shade_toon_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                     int stride);
 
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
 int shade_reads_uv(ShadeKind kind);

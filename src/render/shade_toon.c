@@ -23,19 +23,6 @@ static const Color *ramp_at(const Color *ramp, int n, float x) {
   return &ramp[i < 0 ? 0 : i >= n ? n - 1 : i];
 }
 
-/* T_m(f_s) for light direction l, skipping pow() where n.h is below the
-** style's cutoff (the step is surely 0 there). */
-static float banded_specular(const RenderStyle *st, const float n[3], const float l[3],
-                             const float v[3]) {
-  if (dot3(n, l) <= 0) return 0;
-  float h[3] = {l[0] + v[0], l[1] + v[1], l[2] + v[2]};   /* unnormalised half vector */
-  float nh = dot3(n, h), hh = dot3(h, h);
-  /* n.h / |h| <= cut, tested without the square root (most samples stop here) */
-  if (nh <= 0 || nh * nh <= st->spec_cut * st->spec_cut * hh) return 0;
-  nh /= sqrtf(hh);
-  return shade_step_inv(powf(nh, st->shininess), st->spec_threshold, st->spec_n, st->inv_spec_n);
-}
-
 /* Colour ramps: the diffuse (and specular) values of all lights, weighted
 ** by each light's mean intensity, index the ramps. */
 static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeToon *t,
@@ -60,41 +47,130 @@ static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeT
   }
 }
 
-/* Bands: T_n on each light's diffuse term, T_m on its specular term.
-** Spelled out per channel so the sums stay in registers (rgb may alias
-** anything, and a loop over an array would keep them in memory). */
-static inline void toon_bands(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
-  const float *base = st->base;
-  float r = base[0] * st->ambient, g = base[1] * st->ambient, b = base[2] * st->ambient;
-  for (int i = 0; i < s->frame->nlights; i++) {
-    float l[3], col[3];
-    shade_light(s->frame, i, s->p, l, col);
-    float td = shade_step_inv(shade_diffuse(s->n, l), st->threshold, st->bands_n, st->inv_bands_n);
-    float ts = st->specular > 0 ? st->specular * banded_specular(st, s->n, l, s->v) : 0;
-    r += (base[0] * td + ts) * col[0];
-    g += (base[1] * td + ts) * col[1];
-    b += (base[2] * td + ts) * col[2];
-  }
-  rgb[0] = r; rgb[1] = g; rgb[2] = b;
+/* T_m(f_s) of one sample whose n.h and h.h (h = l + v, unnormalised)
+** passed the style's cut: below it the step is surely 0, and the bands
+** loop skips the pow() (most samples). */
+static float banded_specular_tail(const RenderStyle *st, float nh, float hh) {
+  nh /= sqrtf(hh);
+  return shade_step_inv(powf(nh, st->shininess), st->spec_threshold, st->spec_n, st->inv_spec_n);
 }
 
-/* The model for one sample (inlined into the span loop, its only caller). */
-static inline void toon(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
+/* Samples a block of the bands loop works on: its temporaries live on the
+** stack. */
+#define TOON_BLOCK 64
+
+/* Unit vectors toward light i from samples k0..k0+n-1 of r into l*, and
+** the falloff factor into fall (shade_light, several samples at a time). */
+static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n, float *restrict lx,
+                        float *restrict ly, float *restrict lz, float *restrict fall) {
+  if (lt->directional) {
+    for (int j = 0; j < n; j++) {
+      lx[j] = lt->dir[0]; ly[j] = lt->dir[1]; lz[j] = lt->dir[2]; fall[j] = 1;
+    }
+    return;
+  }
+  const float *px = r->px + k0, *py = r->py + k0, *pz = r->pz + k0;
+  for (int j = 0; j < n; j++) {
+    float x = lt->pos[0] - px[j], y = lt->pos[1] - py[j], z = lt->pos[2] - pz[j];
+    float d2 = x * x + y * y + z * z;
+    float inv = d2 > 0 ? 1 / sqrtf(d2) : 0;
+    lx[j] = x * inv; ly[j] = y * inv; lz[j] = z * inv;
+    fall[j] = lt->inverse_square & (d2 > 0) ? 1 / d2 : 1;
+  }
+}
+
+/* Bands for samples k0..k0+n-1 (n <= TOON_BLOCK): T_n on each light's
+** diffuse term, T_m on its specular term, the sums per channel in planes.
+** Each sample's arithmetic is the same, in the same order, whether it is
+** shaded alone (shade_toon) or in a block; the loops run several samples
+** at a time, all but the power of the few samples whose highlight passes
+** the cut. */
+static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, int n,
+                             float *restrict R, float *restrict G, float *restrict B) {
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+  const float *base = st->base;
+  float cut2 = st->spec_cut * st->spec_cut, spec = st->specular;
+  float lx[TOON_BLOCK], ly[TOON_BLOCK], lz[TOON_BLOCK], fall[TOON_BLOCK];
+  float td[TOON_BLOCK], ts[TOON_BLOCK], nhs[TOON_BLOCK], hhs[TOON_BLOCK];
+  int lit[TOON_BLOCK];
+  for (int j = 0; j < n; j++) {
+    R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
+  }
+  for (int i = 0; i < r->frame->nlights; i++) {
+    const RenderLight *lt = &r->frame->lights[i];
+    light_block(lt, r, k0, n, lx, ly, lz, fall);
+    int any = 0;
+    for (int j = 0; j < n; j++) {
+      float d = nx[j] * lx[j] + ny[j] * ly[j] + nz[j] * lz[j];
+      td[j] = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
+      float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];   /* unnormalised half vector */
+      float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
+      /* n.h / |h| above the cut, tested without the square root (most samples fail it) */
+      lit[j] = !(d <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
+      nhs[j] = nh;
+      hhs[j] = hh;
+      any |= lit[j];
+      ts[j] = 0;
+    }
+    if (spec > 0 && any)
+      for (int j = 0; j < n; j++)
+        if (lit[j]) ts[j] = spec * banded_specular_tail(st, nhs[j], hhs[j]);
+    for (int j = 0; j < n; j++) {
+      float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
+      R[j] += (base[0] * td[j] + ts[j]) * c0;
+      G[j] += (base[1] * td[j] + ts[j]) * c1;
+      B[j] += (base[2] * td[j] + ts[j]) * c2;
+    }
+  }
+  if (st->edge > 0)   /* edge = max(0, n.v) below the cutoff: the edge colour */
+    for (int j = 0; j < n; j++) {
+      int edge = nx[j] * vx[j] + ny[j] * vy[j] + nz[j] * vz[j] < st->edge;
+      R[j] = edge ? st->edge_color[0] : R[j];
+      G[j] = edge ? st->edge_color[1] : G[j];
+      B[j] = edge ? st->edge_color[2] : B[j];
+    }
+}
+
+/* The ramps model for one sample, with the silhouette edge first. */
+static void toon_ramp_sample(const ShadeSample *s, const RenderStyle *st, float rgb[3]) {
   if (st->edge > 0 && dot3(s->n, s->v) < st->edge) {   /* edge = max(0, n.v) below the cutoff */
     rgb[0] = st->edge_color[0]; rgb[1] = st->edge_color[1]; rgb[2] = st->edge_color[2];
     return;
   }
   const ShadeToon *t = &st->src->shade.toon;
-  if (t->nramp > 0) toon_ramps(s, st, t, rgb);
-  else toon_bands(s, st, rgb);
+  toon_ramps(s, st, t, rgb);
 }
 
-void shade_toon_span(const ShadeSample *s, int n, float *rgb, int stride) {
-  if (n <= 0) return;
-  const RenderStyle *st = s->obj->style;
-  for (int k = 0; k < n; k++, rgb += stride) toon(&s[k], st, rgb);
+void shade_toon_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                     int stride) {
+  const RenderStyle *st = o->style;
+  if (st->src->shade.toon.nramp > 0) {   /* ramps: one sample at a time */
+    ShadeSample s;
+    for (int k = k0; k < k1; k++) {
+      shade_row_sample(r, o, k, &s);
+      toon_ramp_sample(&s, st, rgb + (size_t)k * stride);
+    }
+    return;
+  }
+  float R[TOON_BLOCK], G[TOON_BLOCK], B[TOON_BLOCK];
+  for (int k = k0; k < k1; k += TOON_BLOCK) {
+    int n = k1 - k < TOON_BLOCK ? k1 - k : TOON_BLOCK;
+    toon_bands_block(r, st, k, n, R, G, B);
+    float *out = rgb + (size_t)k * stride;
+    for (int j = 0; j < n; j++, out += stride) {
+      out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
+    }
+  }
 }
 
+/* One sample as a row of one. */
 void shade_toon(const ShadeSample *s, float rgb[3]) {
-  shade_toon_span(s, 1, rgb, 3);
+  float p[3] = {s->p[0], s->p[1], s->p[2]}, n[3] = {s->n[0], s->n[1], s->n[2]};
+  float v[3] = {s->v[0], s->v[1], s->v[2]}, uv[2] = {s->uv[0], s->uv[1]};
+  float bary[1][2] = {{s->b1, s->b2}};
+  int32_t face = s->face;
+  ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
+                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1]};
+  shade_toon_span(&r, s->obj, 0, 1, rgb, 3);
 }
