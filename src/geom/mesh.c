@@ -57,34 +57,29 @@ static void edge_add_face(MeshEdge *e, int t) {
   else e->nonmanifold = 1;
 }
 
-/* Edges are found through buckets by their lower vertex: bucket a holds
-** (b, edge) for the edges (a, b) met so far, a handful each on a mesh, in
-** one array sized by counting the sides first. Edges are numbered in the
-** order the triangles first name them. */
+/* Edges are found through lists by their lower vertex: the edges (a, b)
+** met so far, a handful for each a on a mesh, chained newest first
+** through the edges themselves, so the only extra memory is a link per
+** edge and a head per vertex. Edges are numbered in the order the
+** triangles first name them. */
 void mesh_build_edges(Mesh *m) {
   free(m->edges);
   free(m->tri_edges);
   size_t cap = (size_t)m->ntris * 3;
   m->edges = xmalloc((cap ? cap : 1) * sizeof *m->edges);
   m->tri_edges = xmalloc((m->ntris ? (size_t)m->ntris : 1) * sizeof *m->tri_edges);
+  mem_populate(m->tri_edges, (size_t)m->ntris * sizeof *m->tri_edges);
+  mem_populate(m->edges, cap / 2 * sizeof *m->edges);   /* what a closed mesh uses */
   m->nedges = 0;
-  int *start = xcalloc((size_t)m->nverts + 2, sizeof *start);   /* bucket a: start[a] .. */
-  int *used = xcalloc((size_t)m->nverts + 1, sizeof *used);
-  for (int t = 0; t < m->ntris; t++)
-    for (int k = 0; k < 3; k++) {
-      int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
-      start[(a < b ? a : b) + 1]++;
-    }
-  for (int v = 0; v < m->nverts; v++) start[v + 1] += start[v];
-  int (*bucket)[2] = xmalloc((cap ? cap : 1) * sizeof *bucket);   /* (b, edge) */
+  int *first = xcalloc((size_t)m->nverts + 1, sizeof *first);   /* newest edge from a, + 1 */
+  int *next = xmalloc((cap ? cap : 1) * sizeof *next);          /* the one before it, + 1 */
   for (int t = 0; t < m->ntris; t++) {
     for (int k = 0; k < 3; k++) {
-      int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
+      int a = m->tri[t][k], b = m->tri[t][k < 2 ? k + 1 : 0];
       if (a == b) { m->tri_edges[t][k] = -1; continue; }
       if (a > b) { int x = a; a = b; b = x; }
-      int (*q)[2] = bucket + start[a], n = used[a], e = -1;
-      for (int i = 0; i < n; i++)
-        if (q[i][0] == b) { e = q[i][1]; break; }
+      int e = first[a] - 1;
+      while (e >= 0 && m->edges[e].v[1] != b) e = next[e] - 1;
       if (e < 0) {
         e = m->nedges++;
         MeshEdge *me = &m->edges[e];
@@ -92,17 +87,15 @@ void mesh_build_edges(Mesh *m) {
         me->f[0] = me->f[1] = -1;
         me->sharpness = 0;
         me->nonmanifold = 0;
-        q[n][0] = b;
-        q[n][1] = e;
-        used[a]++;
+        next[e] = first[a];
+        first[a] = e + 1;
       }
       edge_add_face(&m->edges[e], t);
       m->tri_edges[t][k] = e;
     }
   }
-  free(start);
-  free(used);
-  free(bucket);
+  free(first);
+  free(next);
   if (m->nedges > 0) m->edges = xrealloc(m->edges, (size_t)m->nedges * sizeof *m->edges);
 }
 
@@ -260,7 +253,8 @@ static void weld_compact(Mesh *m, const int *remap, int nkept) {
     if (a == b || b == c || c == a) continue;
     m->tri[nt][0] = a; m->tri[nt][1] = b; m->tri[nt][2] = c;
     m->tri_face[nt] = m->tri_face[t];
-    if (m->corner_nrm) memmove(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
+    if (m->corner_nrm && nt != t)   /* nt < t: apart, so a copy (inlined) will do */
+      memcpy(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
     nt++;
   }
   m->ntris = nt;

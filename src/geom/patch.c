@@ -24,15 +24,12 @@ static void bernstein1(double t, double b[4], double d[4]) {
   d[0] = -1.0; d[1] = 1.0; d[2] = 0; d[3] = 0;
 }
 
-/* P, dP/du, dP/dv and d2P/dudv at (u, v); any output but P may be NULL.
-** Each row is summed once with the point weights and once with the
-** derivative weights; the rows then combine both ways in v. */
-static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
-  double bu[4], wu[4], bv[4], wv[4];
+void patch_rows(const ScenePatch *p, double u, PatchRows *rows) {
+  double bu[4], wu[4];
   int n = p->bilinear ? 2 : 4;
-  if (p->bilinear) { bernstein1(u, bu, wu); bernstein1(v, bv, wv); }
-  else { bernstein3(u, bu, wu); bernstein3(v, bv, wv); }
-  Vec3 x = {0, 0, 0}, xu = {0, 0, 0}, xv = {0, 0, 0}, xuv = {0, 0, 0};
+  if (p->bilinear) bernstein1(u, bu, wu);
+  else bernstein3(u, bu, wu);
+  rows->n = n;
   for (int j = 0; j < n; j++) {
     const Vec3 *c = &p->cp[n * j];
     Vec3 r = {0, 0, 0}, ru = {0, 0, 0};   /* row j at u, and its u-derivative */
@@ -40,6 +37,20 @@ static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *d
       r.x += bu[i] * c[i].x; r.y += bu[i] * c[i].y; r.z += bu[i] * c[i].z;
       ru.x += wu[i] * c[i].x; ru.y += wu[i] * c[i].y; ru.z += wu[i] * c[i].z;
     }
+    rows->r[j] = r;
+    rows->ru[j] = ru;
+  }
+}
+
+/* P, dP/du, dP/dv and d2P/dudv at v from the rows at some u; any output
+** but P may be NULL. The rows combine both ways in v. */
+static Vec3 eval_rows(const PatchRows *rows, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
+  double bv[4], wv[4];
+  if (rows->n == 2) bernstein1(v, bv, wv);
+  else bernstein3(v, bv, wv);
+  Vec3 x = {0, 0, 0}, xu = {0, 0, 0}, xv = {0, 0, 0}, xuv = {0, 0, 0};
+  for (int j = 0; j < rows->n; j++) {
+    Vec3 r = rows->r[j], ru = rows->ru[j];
     x = v3_add(x, v3_mul(r, bv[j]));
     xu = v3_add(xu, v3_mul(ru, bv[j]));
     xv = v3_add(xv, v3_mul(r, wv[j]));
@@ -49,6 +60,15 @@ static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *d
   if (dv) *dv = xv;
   if (duv) *duv = xuv;
   return x;
+}
+
+/* P, dP/du, dP/dv and d2P/dudv at (u, v); any output but P may be NULL.
+** Each row is summed once with the point weights and once with the
+** derivative weights; the rows then combine both ways in v. */
+static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
+  PatchRows rows;
+  patch_rows(p, u, &rows);
+  return eval_rows(&rows, v, du, dv, duv);
 }
 
 Vec3 patch_eval(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv) {
@@ -102,6 +122,14 @@ Vec3 patch_normal(const ScenePatch *p, double u, double v) {
 Vec3 patch_eval_normal(const ScenePatch *p, double u, double v, Vec3 *normal) {
   Vec3 du, dv;
   Vec3 x = eval_full(p, u, v, &du, &dv, NULL);
+  *normal = normal_from(p, u, v, du, dv);
+  return x;
+}
+
+Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, double u, double v,
+                            Vec3 *normal) {
+  Vec3 du, dv;
+  Vec3 x = eval_rows(rows, v, &du, &dv, NULL);
   *normal = normal_from(p, u, v, du, dv);
   return x;
 }

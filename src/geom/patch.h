@@ -31,6 +31,22 @@ Vec3 patch_normal(const ScenePatch *p, double u, double v);
 ** evaluation (what the tessellator uses). */
 Vec3 patch_eval_normal(const ScenePatch *p, double u, double v, Vec3 *normal);
 
+/* The rows of a patch summed at one u (and their u-derivatives): all that
+** depends on u alone, so points sharing a u (a grid's column) share them.
+** n is the rows' count, 4 (cubic) or 2 (bilinear). */
+typedef struct PatchRows {
+  int n;
+  Vec3 r[4], ru[4];
+} PatchRows;
+
+/* The rows of p at u, for patch_eval_normal_rows. */
+void patch_rows(const ScenePatch *p, double u, PatchRows *rows);
+
+/* patch_eval_normal(p, u, v, normal) from p's rows at u (bit for bit the
+** same). */
+Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, double u, double v,
+                            Vec3 *normal);
+
 /* The 16 control points of the bicubic patch that represents the bilinear
 ** patch p exactly (degree elevation), into *out (bilinear = 0). */
 void patch_elevate_bilinear(const ScenePatch *p, ScenePatch *out);

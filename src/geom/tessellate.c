@@ -44,6 +44,31 @@ typedef struct TessBuf {
   int *face;
 } TessBuf;
 
+/* Sizes the buffers for nv vertices and nt triangles in one go when the
+** counts are known: growing by doubling copies the arrays again and again
+** and faults in fresh pages for every copy. They will be filled whole, so
+** their pages are faulted in at once. Counts too large are left to the
+** growing (and its limit). */
+static void buf_reserve(TessBuf *b, long long nv, long long nt) {
+  if (nv > b->capv && nv <= (1 << 29)) {
+    b->capv = (int)nv;
+    b->pos = xrealloc(b->pos, (size_t)nv * sizeof *b->pos);
+    b->nrm = xrealloc(b->nrm, (size_t)nv * sizeof *b->nrm);
+    b->uv = xrealloc(b->uv, (size_t)nv * sizeof *b->uv);
+    b->border = xrealloc(b->border, (size_t)nv);
+    mem_populate(b->pos, (size_t)nv * sizeof *b->pos);
+    mem_populate(b->nrm, (size_t)nv * sizeof *b->nrm);
+    mem_populate(b->uv, (size_t)nv * sizeof *b->uv);
+  }
+  if (nt > b->capt && nt <= (1 << 29)) {
+    b->capt = (int)nt;
+    b->tri = xrealloc(b->tri, (size_t)nt * sizeof *b->tri);
+    b->face = xrealloc(b->face, (size_t)nt * sizeof *b->face);
+    mem_populate(b->tri, (size_t)nt * sizeof *b->tri);
+    mem_populate(b->face, (size_t)nt * sizeof *b->face);
+  }
+}
+
 static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v, int border) {
   if (b->nv == b->capv) {
     int cap = b->capv;
@@ -255,8 +280,9 @@ static int border_vertex(PatchWork *w, Vec3 pos, double u, double v) {
   return buf_vertex(w->b, pos, patch_normal(w->p, u, v), u, v, 1);
 }
 
-static int inner_vertex(PatchWork *w, double u, double v) {
-  Vec3 n, pos = patch_eval_normal(w->p, u, v, &n);
+/* A vertex inside at (u, v), from the patch's rows at u. */
+static int inner_vertex(PatchWork *w, const PatchRows *rows, double u, double v) {
+  Vec3 n, pos = patch_eval_normal_rows(w->p, rows, u, v, &n);
   return buf_vertex(w->b, pos, n, u, v, 0);
 }
 
@@ -288,6 +314,10 @@ static int grid_index(const PatchCut *c, int i, int j) { return j * (c->nu + 1) 
 static void make_grid(PatchWork *w, const PatchCut *c, int full) {
   int lo = full ? 0 : 1, hiu = full ? c->nu : c->nu - 1, hiv = full ? c->nv : c->nv - 1;
   w->grid = xmalloc((size_t)(c->nu + 1) * (size_t)(c->nv + 1) * sizeof *w->grid);
+  /* each column's rows once, not once per vertex: the inner points are
+  ** most of the work */
+  PatchRows *rows = xmalloc((size_t)(c->nu + 1) * sizeof *rows);
+  for (int i = 1; i < c->nu; i++) patch_rows(w->p, (double)i / c->nu, &rows[i]);
   for (int j = lo; j <= hiv; j++)
     for (int i = lo; i <= hiu; i++) {
       int *g = &w->grid[grid_index(c, i, j)];
@@ -297,9 +327,10 @@ static void make_grid(PatchWork *w, const PatchCut *c, int full) {
       else if (i == c->nu) *g = w->border[1][j];
       else {
         double u = (double)i / c->nu, v = (double)j / c->nv;
-        *g = inner_vertex(w, u, v);
+        *g = inner_vertex(w, &rows[i], u, v);
       }
     }
+  free(rows);
 }
 
 /* Two triangles per cell over cells [i0, i1) x [j0, j1), counter-clockwise
@@ -353,6 +384,29 @@ static void stitch_border(PatchWork *w, const PatchCut *c, int k) {
   free(q);
 }
 
+/* Whether the borders' counts match the grid's: then the patch is one
+** grid, with no strips. */
+static int cut_is_grid(const PatchCut *c) {
+  return c->e[0] == c->nu && c->e[2] == c->nu && c->e[1] == c->nv && c->e[3] == c->nv;
+}
+
+/* Adds the vertices and triangles cut_patch makes for c to *nv and *nt. */
+static void cut_size(PatchCut c, long long *nv, long long *nt) {
+  long long verts = 4;   /* the corners, then each border's inner points */
+  for (int k = 0; k < 4; k++) verts += c.e[k] - 1;
+  if (cut_is_grid(&c)) {
+    *nv += verts + (long long)(c.nu - 1) * (c.nv - 1);
+    *nt += 2LL * c.nu * c.nv;
+    return;
+  }
+  if (c.nu < 2) c.nu = 2;   /* as cut_patch */
+  if (c.nv < 2) c.nv = 2;
+  *nv += verts + (long long)(c.nu - 1) * (c.nv - 1);
+  /* the inner cells, then each strip: one triangle per segment of either side */
+  *nt += 2LL * (c.nu - 2) * (c.nv - 2) + c.e[0] + c.e[1] + c.e[2] + c.e[3] + 2LL * (c.nu - 2) +
+         2LL * (c.nv - 2);
+}
+
 /* Cuts patch p (cubic) as c says into b. */
 static void cut_patch(TessBuf *b, const ScenePatch *p, int face, PatchCut c) {
   PatchWork w = {b, p, face, {NULL, NULL, NULL, NULL}, NULL};
@@ -361,7 +415,7 @@ static void cut_patch(TessBuf *b, const ScenePatch *p, int face, PatchCut c) {
     border_vertex(&w, p->cp[15], 1, 1), border_vertex(&w, p->cp[12], 0, 1),
   };
   for (int k = 0; k < 4; k++) make_border(&w, k, c.e[k], corner);
-  if (c.e[0] == c.nu && c.e[2] == c.nu && c.e[1] == c.nv && c.e[3] == c.nv) {
+  if (cut_is_grid(&c)) {
     make_grid(&w, &c, 1);
     emit_cells(&w, &c, 0, c.nu, 0, c.nv);
   } else {
@@ -406,6 +460,7 @@ static Mesh *finish_patches(const SceneGeometry *g, TessBuf *b) {
   /* each corner keeps its own patch's normal where a weld joins patches
   ** that meet at an angle (the weld drops it again if none do) */
   m->corner_nrm = xmalloc((size_t)(m->ntris > 0 ? m->ntris : 1) * sizeof *m->corner_nrm);
+  mem_populate(m->corner_nrm, (size_t)m->ntris * sizeof *m->corner_nrm);   /* filled whole */
   for (int t = 0; t < m->ntris; t++)
     for (int k = 0; k < 3; k++) m->corner_nrm[t][k] = m->nrm[m->tri[t][k]];
   mesh_weld_marked(m, TESS_WELD_REL * control_extent(g), border);
@@ -420,11 +475,27 @@ Mesh *tess_uniform(const SceneGeometry *g, int n) {
   if (n < 1) n = 1;
   if (n > TESS_MAX_SEGMENTS) n = TESS_MAX_SEGMENTS;
   PatchCut c = {{n, n, n, n}, n, n};
+  long long nv = 0, nt = 0;
+  cut_size(c, &nv, &nt);
+  if (g->kind == GEOM_PATCHES) buf_reserve(&b, nv * g->npatches, nt * g->npatches);
   for (int i = 0; g->kind == GEOM_PATCHES && i < g->npatches; i++) {
     ScenePatch p = cubic_patch(g, i);
     cut_patch(&b, &p, i, c);
   }
   return finish_patches(g, &b);
+}
+
+/* How patch p is cut for the measure ms. */
+static PatchCut adaptive_cut(const Measure *ms, const ScenePatch *p) {
+  PatchCut c;
+  for (int k = 0; k < 4; k++) c.e[k] = border_segments(ms, p, k);
+  inner_segments(ms, p, &c.nu, &c.nv);
+  /* the inside at least as fine as its borders, so strips stay narrow */
+  c.nu = c.nu > c.e[0] ? c.nu : c.e[0];
+  c.nu = c.nu > c.e[2] ? c.nu : c.e[2];
+  c.nv = c.nv > c.e[1] ? c.nv : c.e[1];
+  c.nv = c.nv > c.e[3] ? c.nv : c.e[3];
+  return c;
 }
 
 Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int width, int height,
@@ -434,18 +505,20 @@ Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int widt
   Measure ms = {object_to_clip, 0.5 * (width > 0 ? width : 1), 0.5 * (height > 0 ? height : 1),
                 tolerance_px};
   if (!(ms.tol > 0)) ms.tol = object_to_clip ? TESS_DEFAULT_PX : TESS_DEFAULT_REL * control_extent(g);
-  for (int i = 0; g->kind == GEOM_PATCHES && i < g->npatches; i++) {
+  int np = g->kind == GEOM_PATCHES ? g->npatches : 0;
+  PatchCut *cut = xmalloc((size_t)(np > 0 ? np : 1) * sizeof *cut);
+  long long nv = 0, nt = 0;
+  for (int i = 0; i < np; i++) {   /* every count first, to size the buffers once */
     ScenePatch p = cubic_patch(g, i);
-    PatchCut c;
-    for (int k = 0; k < 4; k++) c.e[k] = border_segments(&ms, &p, k);
-    inner_segments(&ms, &p, &c.nu, &c.nv);
-    /* the inside at least as fine as its borders, so strips stay narrow */
-    c.nu = c.nu > c.e[0] ? c.nu : c.e[0];
-    c.nu = c.nu > c.e[2] ? c.nu : c.e[2];
-    c.nv = c.nv > c.e[1] ? c.nv : c.e[1];
-    c.nv = c.nv > c.e[3] ? c.nv : c.e[3];
-    cut_patch(&b, &p, i, c);
+    cut[i] = adaptive_cut(&ms, &p);
+    cut_size(cut[i], &nv, &nt);
   }
+  buf_reserve(&b, nv, nt);
+  for (int i = 0; i < np; i++) {
+    ScenePatch p = cubic_patch(g, i);
+    cut_patch(&b, &p, i, cut[i]);
+  }
+  free(cut);
   return finish_patches(g, &b);
 }
 
