@@ -176,15 +176,29 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
 typedef struct RefTarget {
   const LineRef *ref;
   int32_t *ids;
+  const uint8_t *walk;   /* NULL, or per row of each block (block * LINE_REF_TILE + (y & 7)):
+                            bit x & 7 set where some edge's walk steps, the only pixels
+                            whose depth is read (edgeref.h); the rest are left empty */
 } RefTarget;
 
+_Static_assert(LINE_REF_TILE == 8, "a row of a tile's walk mask is a byte, a tile's eight a word");
+
+/* The pixels of [xa, xb] (in one tile) of row y of block b that the
+** raster must write: bit x & (LINE_REF_TILE - 1). */
+static unsigned run_pixels(const RefTarget *rt, int b, int y, int xa, int xb) {
+  unsigned bits = (0xFFu << (xa & (LINE_REF_TILE - 1))) & (0xFFu >> (7 - (xb & (LINE_REF_TILE - 1))));
+  if (rt->walk) bits &= rt->walk[(size_t)b * LINE_REF_TILE + (y & (LINE_REF_TILE - 1))];
+  return bits;
+}
+
 /* Pixels [xa, xb] of row y, all in tile block b, take t's nearness (n0 at
-** xa, dndx a pixel) where it is nearer. */
+** xa, dndx a pixel) where it is nearer; only those of bits (run_pixels). */
 static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int b, int y, int xa,
-                       int xb, double n0, double dndx) {
+                       int xb, unsigned bits, double n0, double dndx) {
   const LineRef *ref = rt->ref;
   size_t base = (size_t)b * LINE_REF_TILE_PX + ((size_t)(y & (LINE_REF_TILE - 1)) << LINE_REF_TILE_BITS);
   for (int x = xa; x <= xb; x++) {
+    if (!(bits >> (x & (LINE_REF_TILE - 1)) & 1)) continue;
     float nf = (float)(n0 + dndx * (x - xa));
     size_t i = base + (x & (LINE_REF_TILE - 1));
     if (nf > ref->near[i]) {
@@ -195,11 +209,131 @@ static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int 
   }
 }
 
-/* Rasterize t (number k in its list) into rows [y0, y1), in the tiles with
-** storage: pixel centres inside (edges included) take its nearness when it
-** is nearer than what is there, and LINE_REF_TRI | k as their id. */
-static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int y0, int y1) {
+/* The sides of a triangle as bounds on the pixel centres px of the row at
+** py. Side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; it
+** bounds px from below (a > 0) or above (a < 0) at m * py + q, and a
+** horizontal side (a = 0) empties the rows where b * py + c < 0. Each side
+** fills one of its three slots; the other two hold a bound that never
+** binds (0 * py -/+ infinity, or 0), so a row takes the max and min over
+** all three sides with no branch on which kind each is. */
+typedef struct TriSides {
+  double lm[3], lq[3];   /* lower bounds: px >= lm * py + lq */
+  double um[3], uq[3];   /* upper bounds: px <= um * py + uq */
+  double hm[3], hq[3];   /* horizontal: the row is empty if hm * py + hq < 0 */
+  int flat;              /* some side is horizontal */
+} TriSides;
+
+static void tri_sides(const ScreenTri *t, double sgn, TriSides *s) {
+  s->flat = 0;
+  for (int e = 0; e < 3; e++) {
+    int e1 = (e + 1) % 3;
+    double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
+    double a = -sgn * ey, b = sgn * ex, c = sgn * (ey * t->x[e] - ex * t->y[e]);
+    s->lm[e] = s->um[e] = s->hm[e] = s->hq[e] = 0;
+    s->lq[e] = -INFINITY;
+    s->uq[e] = INFINITY;
+    if (a > 0) { s->lm[e] = -b / a; s->lq[e] = -c / a; }
+    else if (a < 0) { s->um[e] = -b / a; s->uq[e] = -c / a; }
+    else { s->hm[e] = b; s->hq[e] = c; s->flat = 1; }
+  }
+}
+
+/* Narrow [*lo, *hi] to the pixel centres of the row at py inside the
+** triangle; 0 when none are. */
+static inline int tri_row(const TriSides *s, double py, double *lo, double *hi) {
+  double l = *lo, h = *hi;
+  for (int e = 0; e < 3; e++) {
+    double le = s->lm[e] * py + s->lq[e], he = s->um[e] * py + s->uq[e];
+    l = le > l ? le : l;
+    h = he < h ? he : h;
+  }
+  *lo = l;
+  *hi = h;
+  if (s->flat)
+    for (int e = 0; e < 3; e++)
+      if (s->hm[e] * py + s->hq[e] < 0) return 0;
+  return l <= h;
+}
+
+/* Which rows of [ra, rb], all in one tile row, need the row raster of
+** sides s: rows[y & (LINE_REF_TILE - 1)] nonzero; 0 when none do. Rounding
+** is monotone, so over those rows each side's bound lies between its values
+** at the first and the last row (a side that is NaN at either end may be
+** anything between; it bounds nothing here). That gives the columns any of
+** the rows can reach; a row needs the raster only when it has a pixel to
+** write (run_pixels) in a tile of those columns. */
+static int reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb, uint8_t rows[LINE_REF_TILE]) {
   const LineRef *ref = rt->ref;
+  int xhi = ref->width - 1;
+  double pa = ra + 0.5, pb = rb + 0.5, lo = 0.5, hi = xhi + 0.5;
+  for (int e = 0; e < 3; e++) {
+    double la = s->lm[e] * pa + s->lq[e], lb = s->lm[e] * pb + s->lq[e];
+    double ua = s->um[e] * pa + s->uq[e], ub = s->um[e] * pb + s->uq[e];
+    if (!isnan(la) && !isnan(lb)) {
+      double l = la < lb ? la : lb;
+      lo = l > lo ? l : lo;
+    }
+    if (!isnan(ua) && !isnan(ub)) {
+      double u = ua > ub ? ua : ub;
+      hi = u < hi ? u : hi;
+    }
+  }
+  if (!(lo <= hi)) return 0;
+  /* as raster_row turns its bounds into columns */
+  double a0 = lo - 0.5, b0 = hi - 0.5;
+  int xa = (int)a0, xb = (int)b0;
+  if (xa < a0) xa++;
+  if (xb > xhi) xb = xhi;
+  if (xa > xb) return 0;
+  uint64_t any = 0;   /* the eight row masks of the blocks, or-ed */
+  const int *tiles = ref->tile + (size_t)(ra >> LINE_REF_TILE_BITS) * ref->tw;
+  for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
+    int b = tiles[tx];
+    if (b < 0) continue;
+    uint64_t m = ~(uint64_t)0;
+    if (rt->walk) memcpy(&m, rt->walk + (size_t)b * LINE_REF_TILE, sizeof m);
+    /* only the columns [xa, xb]: the same byte mask in every row */
+    int ca = tx == xa >> LINE_REF_TILE_BITS ? xa & (LINE_REF_TILE - 1) : 0;
+    int cb = tx == xb >> LINE_REF_TILE_BITS ? xb & (LINE_REF_TILE - 1) : LINE_REF_TILE - 1;
+    uint64_t cols = (0xFFu << ca) & (0xFFu >> (LINE_REF_TILE - 1 - cb));
+    any |= m & cols * 0x0101010101010101u;
+  }
+  memcpy(rows, &any, LINE_REF_TILE);
+  return any != 0;
+}
+
+/* Row y of t (number k in its list, sides s, nearness slopes dndx, dndy):
+** pixel centres inside (edges included) in tiles with storage take its
+** nearness when it is nearer than what is there, and LINE_REF_TRI | k as
+** their id. */
+static void raster_row(const ScreenTri *t, uint32_t k, const RefTarget *rt, const TriSides *s,
+                       double dndx, double dndy, int y) {
+  const LineRef *ref = rt->ref;
+  int xhi = ref->width - 1;
+  double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
+  if (!tri_row(s, py, &lo, &hi)) return;
+  /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= 0, so truncation floors */
+  double a0 = lo - 0.5, b0 = hi - 0.5;
+  int xa = (int)a0, xb = (int)b0;
+  if (xa < a0) xa++;
+  if (xb > xhi) xb = xhi;
+  if (xa > xb) return;
+  double n0 = t->n[0] + dndx * (xa + 0.5 - (double)t->x[0]) + dndy * (py - (double)t->y[0]);
+  const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
+  for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
+    int b = tiles[tx];
+    if (b < 0) continue;
+    int ta = tx << LINE_REF_TILE_BITS, tb = ta + LINE_REF_TILE - 1;
+    if (ta < xa) ta = xa;
+    if (tb > xb) tb = xb;
+    unsigned bits = run_pixels(rt, b, y, ta, tb);
+    if (bits) raster_run(t, k, rt, b, y, ta, tb, bits, n0 + dndx * (ta - xa), dndx);
+  }
+}
+
+/* Rasterize t (number k in its list) into rows [y0, y1), a tile row at a
+** time, skipping the rows reach_rows rules out. */
+static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int y0, int y1) {
   int ya = t->ymin > y0 ? t->ymin : y0, yb = t->ymax < y1 - 1 ? t->ymax : y1 - 1;
   if (ya > yb) return;
   double x0 = t->x[0], y0d = t->y[0];
@@ -207,48 +341,15 @@ static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int 
   double det = ax * by - ay * bx;
   double an = t->n[1] - t->n[0], bn = t->n[2] - t->n[0];
   double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
-  double sgn = det > 0 ? 1 : -1;
-  /* side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; per
-  ** row it bounds px from below (a > 0) or above (a < 0) at m * py + q;
-  ** a horizontal side (a = 0) keeps m = b, q = c and empties rows where
-  ** b * py + c < 0 */
-  double m[3], q[3];
-  int kind[3];   /* 1: lower bound, -1: upper bound, 0: horizontal */
-  for (int e = 0; e < 3; e++) {
-    int e1 = (e + 1) % 3;
-    double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
-    double a = -sgn * ey, b = sgn * ex, c = sgn * (ey * t->x[e] - ex * t->y[e]);
-    kind[e] = a > 0 ? 1 : a < 0 ? -1 : 0;
-    m[e] = kind[e] ? -b / a : b;
-    q[e] = kind[e] ? -c / a : c;
-  }
-  int xhi = ref->width - 1;
-  for (int y = ya; y <= yb; y++) {
-    double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
-    int empty = 0;
-    for (int e = 0; e < 3; e++) {
-      double r = m[e] * py + q[e];
-      if (kind[e] > 0) { if (r > lo) lo = r; }
-      else if (kind[e] < 0) { if (r < hi) hi = r; }
-      else if (r < 0) empty = 1;
-    }
-    if (empty || lo > hi) continue;
-    /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= 0, so truncation floors */
-    double a0 = lo - 0.5, b0 = hi - 0.5;
-    int xa = (int)a0, xb = (int)b0;
-    if (xa < a0) xa++;
-    if (xb > xhi) xb = xhi;
-    if (xa > xb) continue;
-    double n0 = t->n[0] + dndx * (xa + 0.5 - x0) + dndy * (py - y0d);
-    const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
-    for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
-      int b = tiles[tx];
-      if (b < 0) continue;
-      int ta = tx << LINE_REF_TILE_BITS, tb = ta + LINE_REF_TILE - 1;
-      if (ta < xa) ta = xa;
-      if (tb > xb) tb = xb;
-      raster_run(t, k, rt, b, y, ta, tb, n0 + dndx * (ta - xa), dndx);
-    }
+  TriSides sides;
+  tri_sides(t, det > 0 ? 1 : -1, &sides);
+  for (int ra = ya; ra <= yb; ra = (ra | (LINE_REF_TILE - 1)) + 1) {
+    int rb = ra | (LINE_REF_TILE - 1);
+    if (rb > yb) rb = yb;
+    uint8_t rows[LINE_REF_TILE];
+    if (!reach_rows(&sides, rt, ra, rb, rows)) continue;
+    for (int y = ra; y <= rb; y++)
+      if (rows[y & (LINE_REF_TILE - 1)]) raster_row(t, k, rt, &sides, dndx, dndy, y);
   }
 }
 
@@ -436,6 +537,22 @@ static void edge_tiles(LineRef *ref, int **sat) {
     }
 }
 
+/* Per row of each block of ref, the pixels the walks of its spans visit
+** (RefTarget.walk). */
+static uint8_t *walk_masks(const LineRef *ref) {
+  uint8_t *walk = xcalloc((size_t)ref->nblocks * LINE_REF_TILE + 1, 1);
+  for (int i = 0; i < ref->nids; i++) {
+    const LineSpan *s = &ref->span[i];
+    for (int k = 0; k < s->nsteps; k++) {
+      int x, y;
+      line_span_step(s, k, &x, &y);
+      int b = ref->tile[(y >> LINE_REF_TILE_BITS) * ref->tw + (x >> LINE_REF_TILE_BITS)];
+      walk[(size_t)b * LINE_REF_TILE + (y & (LINE_REF_TILE - 1))] |= (uint8_t)(1u << (x & (LINE_REF_TILE - 1)));
+    }
+  }
+  return walk;
+}
+
 /* The tile grid of a width x height image, every tile without storage. */
 static void ref_init(LineRef *ref, int width, int height) {
   memset(ref, 0, sizeof *ref);
@@ -479,7 +596,9 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
   TileSat ts = {ref->tw, ref->th, sat};
   TriList tris = {0, 0, NULL};
   if (ref->nblocks) collect_tris(&tris, edges, objs, width, height, &ts);
-  RefJob job = {ref, &tris, edges, edge_info(edges), {ref, NULL}, band_count(threads, ref->th), NULL};
+  uint8_t *walk = walk_masks(ref);
+  RefJob job = {ref, &tris, edges, edge_info(edges), {ref, NULL, walk}, band_count(threads, ref->th),
+                NULL};
   job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
   for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
   if (ref->nblocks) line_parallel(job.nbands, threads, ref_band, &job);
@@ -490,6 +609,7 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
   }
   free(job.count);
   free((void *)job.info);
+  free(walk);
   free(sat);
   free(tris.t);
   ref->visible = xmalloc(((size_t)edges->n + 1) * sizeof *ref->visible);
@@ -516,7 +636,7 @@ int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int wid
   line_ref_blank(&ref, width, height);   /* every tile */
   TriList tris = {0, 0, NULL};
   collect_tris(&tris, edges, objs, width, height, NULL);
-  RefJob job = {&ref, &tris, edges, NULL, {&ref, ids}, band_count(threads, ref.th), NULL};
+  RefJob job = {&ref, &tris, edges, NULL, {&ref, ids, NULL}, band_count(threads, ref.th), NULL};
   line_parallel(job.nbands, threads, ref_band, &job);
   free(tris.t);
   line_ref_free(&ref);

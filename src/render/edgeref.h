@@ -48,7 +48,9 @@ typedef struct LineSpan {
 ** ever read where an edge is drawn, and ids only there or a search width
 ** away (a pixel of a tile without storage reads as empty). So the meshes
 ** are rasterized into a fraction of the image, and memory and time follow
-** the length of the lines, not the resolution. */
+** the length of the lines, not the resolution. Within those tiles the
+** meshes are rasterized only at the pixels of the walks (the only depth
+** read); the other pixels stay empty, as surface ids read as 0 anyway. */
 #define LINE_REF_TILE_BITS 3
 #define LINE_REF_TILE (1 << LINE_REF_TILE_BITS)
 #define LINE_REF_TILE_PX (LINE_REF_TILE * LINE_REF_TILE)
@@ -59,7 +61,7 @@ typedef struct LineRef {
   int *tile;                   /* tw * th: storage block of each tile, -1 = none */
   int nblocks;
   float *near;                 /* nblocks * LINE_REF_TILE_PX: nearness of the closest
-                                  surface or edge, 0 = none */
+                                  surface (at walk pixels) or edge, 0 = none */
   uint32_t *id;                /* the same layout: edge id drawn, 0 = none; while
                                   building, LINE_REF_TRI | k marks surface triangle k */
   int nids;                    /* important edges (ids 1..nids) */

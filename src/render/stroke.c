@@ -259,6 +259,7 @@ typedef struct Band {
   int w, y0, y1;
   float *cov;   /* w * (y1 - y0) */
   int *lo, *hi; /* per row: the columns the stroke touched (lo > hi: none) */
+  float *run;   /* w * 4: an 8-bit target's pixels being composited, linear */
 } Band;
 
 /* Pixel rows/columns of the box [x0, x1] x [y0, y1] inside the band. */
@@ -269,6 +270,13 @@ static int band_clip(const Band *b, float x0, float y0, float x1, float y1, int 
   *ya = (int)fmaxf((float)b->y0, floorf(y0));
   *yb = (int)fminf((float)(b->y1 - 1), ceilf(y1));
   return *xa <= *xb && *ya <= *yb;
+}
+
+/* The coverage pixel (x, y) has so far. Texture ink is at most 1, so a
+** pixel whose coverage is already at least a piece's cov needs no texture
+** lookup: the piece cannot raise it. */
+static float cov_at(const Band *b, int x, int y) {
+  return b->cov[(size_t)(y - b->y0) * b->w + x];
 }
 
 static void cov_max(const Band *b, int x, int y, float a) {
@@ -393,6 +401,7 @@ static void cover_quad(const Band *b, const Stroke *st, int i) {
       float dr = side(px, py, R[2 * i], R[2 * i + 1], nrx, nry);
       if (dl < -0.5f || dr < -0.5f) continue;
       float cov = clampf(dl + 0.5f, 0, 1) * clampf(dr + 0.5f, 0, 1) * capcov;
+      if (cov <= cov_at(b, x, y)) continue;
       float t = fa - fb > 1e-6f ? clampf(fa / (fa - fb), 0, 1) : 0;
       float v = dl + dr > 1e-6f ? clampf(dr / (dl + dr), 0, 1) : 0.5f;
       float a = cov * texture_at(st, s0 + t * (s1 - s0), v);
@@ -414,7 +423,7 @@ static void cover_join(const Band *b, const Stroke *st, int i) {
     for (int x = xa; x <= xb; x++) {
       float px = x + 0.5f - cx, py = y + 0.5f - cy, d = sqrtf(px * px + py * py);
       float cov = clampf(hw + 0.5f - d, 0, 1);
-      if (cov <= 0) continue;
+      if (cov <= 0 || cov <= cov_at(b, x, y)) continue;
       float v = clampf(0.5f + 0.5f * (px * rx + py * ry) / hw, 0, 1);
       cov_max(b, x, y, cov * texture_at(st, st->s[i], v));
     }
@@ -435,7 +444,8 @@ static inline void composite_pixel(float *p, int alpha, int ncol, const float co
 }
 
 /* Composite the band's coverage of st (rows ya..yb, the columns it
-** touched) over the target, and clear it for the next stroke. */
+** touched) over the target, and clear it for the next stroke. An 8-bit
+** target is decoded and encoded a run of inked neighbours at a time. */
 static void composite(const Band *b, const Stroke *st, Image *target, int ya, int yb) {
   int ch = target->channels, alpha = image_alpha_channel(target), ncol = ch >= 3 ? 3 : 1;
   float col[3] = {st->color.r, st->color.g, st->color.b};
@@ -444,18 +454,20 @@ static void composite(const Band *b, const Stroke *st, Image *target, int ya, in
     int r = y - b->y0;
     float *c = &b->cov[(size_t)r * b->w];
     size_t row = (size_t)y * target->width * ch;
-    for (int x = b->lo[r]; x <= b->hi[r]; x++) {
-      float a = c[x] * st->opacity;
-      c[x] = 0;
-      if (a <= 0) continue;
-      float p8[4], *p = target->data ? target->data + row + (size_t)x * ch : p8;
-      uint8_t *code = target->data8 ? target->data8 + row + (size_t)x * ch : NULL;
+    for (int x = b->lo[r], e; x <= b->hi[r]; x = e) {
+      if (c[x] * st->opacity <= 0) { c[x] = 0; e = x + 1; continue; }
+      for (e = x + 1; e <= b->hi[r] && !(c[e] * st->opacity <= 0); e++) {}
       /* an 8-bit image: mix in linear, encode again. It holds the fill as
       ** it shows (clamped to 1), so partial ink mixes with what is seen; a
       ** float image keeps fill above 1, which shows through partial ink */
-      if (code) image_decode8(code, p, 1, ch);
-      composite_pixel(p, alpha, ncol, col, a);
-      if (code) image_encode8(p, code, 1, ch);
+      uint8_t *code = target->data8 ? target->data8 + row + (size_t)x * ch : NULL;
+      float *p = code ? b->run : target->data + row + (size_t)x * ch;
+      if (code) image_decode8(code, p, (size_t)(e - x), ch);
+      for (int k = x; k < e; k++, p += ch) {
+        composite_pixel(p, alpha, ncol, col, c[k] * st->opacity);
+        c[k] = 0;
+      }
+      if (code) image_encode8(b->run, code, (size_t)(e - x), ch);
     }
     b->lo[r] = b->w;
     b->hi[r] = -1;
@@ -472,13 +484,14 @@ typedef struct StrokeJob {
   int nbands;
   float **cov;      /* per worker: a band's coverage buffer */
   int **rows;       /* per worker: 2 * band_h column bounds */
+  float **run;      /* per worker: Band.run */
   int band_h;
 } StrokeJob;
 
 static void stroke_band(void *ctx, int band, int worker) {
   StrokeJob *j = ctx;
   Band b = {j->target->width, band * j->band_h, (band + 1) * j->band_h, j->cov[worker],
-            j->rows[worker], j->rows[worker] + j->band_h};
+            j->rows[worker], j->rows[worker] + j->band_h, j->run[worker]};
   if (b.y1 > j->target->height) b.y1 = j->target->height;
   for (int r = 0; r < j->band_h; r++) { b.lo[r] = b.w; b.hi[r] = -1; }
   for (int k = 0; k < j->sl->n; k++) {
@@ -506,16 +519,19 @@ void stroke_render(const StrokeList *sl, Image *target, int threads) {
   nbands = (target->height + band_h - 1) / band_h;
   int nw = threads < nbands ? threads : nbands;
   StrokeJob job = {sl, target, nbands, xmalloc((size_t)nw * sizeof(float *)),
-                   xmalloc((size_t)nw * sizeof(int *)), band_h};
+                   xmalloc((size_t)nw * sizeof(int *)), xmalloc((size_t)nw * sizeof(float *)), band_h};
   for (int w = 0; w < nw; w++) {
     job.cov[w] = xcalloc((size_t)target->width * band_h, sizeof(float));
     job.rows[w] = xmalloc((size_t)band_h * 2 * sizeof(int));
+    job.run[w] = xmalloc((size_t)target->width * 4 * sizeof(float));
   }
   line_parallel(nbands, nw, stroke_band, &job);
   for (int w = 0; w < nw; w++) {
     free(job.cov[w]);
     free(job.rows[w]);
+    free(job.run[w]);
   }
   free(job.cov);
   free(job.rows);
+  free(job.run);
 }
