@@ -37,7 +37,11 @@ static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, 
 
 /* Which tiles get depth: the summed-area table (tw + 1) x (th + 1) of the
 ** tiles with storage; NULL keeps every triangle. */
-typedef struct TileSat { int tw, th; const int *sat; } TileSat;
+typedef struct TileSat {
+  int tw, th;
+  const int *sat;
+  const int *tile;   /* tw * th: the tile's storage block, -1 = none (LineRef.tile) */
+} TileSat;
 
 /* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] have storage? */
 static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
@@ -108,8 +112,9 @@ static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double
 }
 
 /* A vertex in front of the near plane (z >= -w, w > 0) as clip_to_screen
-** puts it; in = 0 marks one the triangles around must clip. */
-typedef struct ScreenVert { float x, y, n; int in; } ScreenVert;
+** puts it; in = 0 marks one the triangles around must clip. tile is the
+** index of the tile it lies in, -1 when it is off the image. */
+typedef struct ScreenVert { float x, y, n; int in, tile; } ScreenVert;
 
 /* Triangle t of object obj whose corners are all in front of the near
 ** plane: what add_clipped does for it (the polygon is the triangle
@@ -151,9 +156,11 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     for (int k = 0; k < m->nverts; k++) {
       const double *c = v[k].clip;
       if (c[2] + c[3] >= 0 && c[3] > 0) {
-        ScreenVert s = {0, 0, 0, 0};
+        ScreenVert s = {0, 0, 0, 0, -1};
         clip_to_screen(c, w, h, &s.x, &s.y, &s.n);
         s.in = isfinite(s.x) && isfinite(s.y) && isfinite(s.n);   /* else the general path */
+        if (s.in && s.x >= 0 && s.x < w && s.y >= 0 && s.y < h && sat)
+          s.tile = ((int)s.y >> LINE_REF_TILE_BITS) * sat->tw + ((int)s.x >> LINE_REF_TILE_BITS);
         sv[k] = s;
       }
     }
@@ -161,6 +168,10 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
       const int *tv = m->tri[t];
       const ScreenVert *a = &sv[tv[0]], *b = &sv[tv[1]], *c = &sv[tv[2]];
       if (a->in & b->in & c->in) {
+        /* all in one tile without storage (most small triangles): its
+        ** box is in that tile, and add_front would drop it */
+        if (a->tile >= 0 && a->tile == b->tile && a->tile == c->tile && sat->tile[a->tile] < 0)
+          continue;
         add_front(l, a, b, c, i, t, factor, w, h, sat);
       } else {
         const double *cc[3] = {v[tv[0]].clip, v[tv[1]].clip, v[tv[2]].clip};
@@ -593,7 +604,7 @@ void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs
   int *sat;
   edge_tiles(ref, &sat);   /* storage only where edges are */
   ref_alloc_blocks(ref);
-  TileSat ts = {ref->tw, ref->th, sat};
+  TileSat ts = {ref->tw, ref->th, sat, ref->tile};
   TriList tris = {0, 0, NULL};
   if (ref->nblocks) collect_tris(&tris, edges, objs, width, height, &ts);
   uint8_t *walk = walk_masks(ref);

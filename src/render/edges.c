@@ -14,11 +14,24 @@
 
 /* ---- classification ---------------------------------------------------- */
 
-/* Kinds of edge me with the crease test as n0 . n1 <= crease_cos; the
-** view vector is forward (ortho) or from eye to the edge's v[0]. */
-static inline unsigned edge_kind_at(const MeshEdge *me, const int *tri_face, const Vec3 *world,
-                                    const Vec3 *fn, unsigned want, double crease_cos, int ortho,
-                                    Vec3 forward, Vec3 eye) {
+/* What classifying one object's edges needs besides the edge: its
+** triangles' source faces, world positions and unit face normals, the
+** kinds wanted, the crease test as n0 . n1 <= crease_cos, and the view
+** vector: forward (ortho) or from eye to the edge's v[0]. */
+typedef struct EdgeTest {
+  const int *tri_face;
+  const Vec3 *world, *fn;
+  unsigned want;
+  double crease_cos;
+  int ortho;
+  Vec3 forward, eye;
+} EdgeTest;
+
+/* Kinds of edge me. */
+static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
+  const int *tri_face = et->tri_face;
+  const Vec3 *fn = et->fn;
+  unsigned want = et->want;
   unsigned kind = 0;
   int f0 = me->f[0], f1 = me->f[1];
   if (f0 < 0 || f1 < 0) {                          /* fewer than two faces */
@@ -33,14 +46,14 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const int *tri_face, con
   if (want & EDGE_CREASE) {
     if (me->sharpness > 0) kind |= EDGE_CREASE;   /* tagged by subdivision */
     /* angle(n0, n1) >= threshold  <=>  n0 . n1 <= cos(threshold) */
-    else if (!degenerate && v3_dot(n0, n1) <= crease_cos)
+    else if (!degenerate && v3_dot(n0, n1) <= et->crease_cos)
       kind |= EDGE_CREASE;
   }
   if ((want & EDGE_SILHOUETTE) && !degenerate) {
     /* view vector from the camera to an end point; the product of the two
     ** dot products is <= 0 when one face looks at the viewer and the other
     ** away (or either is edge-on) */
-    Vec3 v = ortho ? forward : v3_sub(world[me->v[0]], eye);
+    Vec3 v = et->ortho ? et->forward : v3_sub(et->world[me->v[0]], et->eye);
     if (v3_dot(v, n0) * v3_dot(v, n1) <= 0) kind |= EDGE_SILHOUETTE;
   }
   return kind;
@@ -48,9 +61,9 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const int *tri_face, con
 
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam) {
-  return edge_kind_at(&m->edges[e], m->tri_face, world, fn, ls->kinds,
-                      cos(ls->crease_angle * M_PI / 180.0), cam->kind == CAMERA_ORTHO, cam->forward,
-                      cam->eye);
+  EdgeTest et = {m->tri_face, world, fn, ls->kinds, cos(ls->crease_angle * M_PI / 180.0),
+                 cam->kind == CAMERA_ORTHO, cam->forward, cam->eye};
+  return edge_kind_at(&m->edges[e], &et);
 }
 
 /* ---- per object --------------------------------------------------------- */
@@ -169,10 +182,10 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     }
     face_normals(fn, oe->front, m, world, cam);
     if (oe->lines) {
-      double crease_cos = cos(oe->lines->crease_angle * M_PI / 180.0);
+      EdgeTest et = {m->tri_face, world, fn, oe->lines->kinds,
+                     cos(oe->lines->crease_angle * M_PI / 180.0), cam->kind == CAMERA_ORTHO,
+                     cam->forward, cam->eye};
       int first = out->n;
-      unsigned want = oe->lines->kinds;
-      int ortho = cam->kind == CAMERA_ORTHO;
       const MeshEdge *me = m->edges;
       for (int e = 0; e < m->nedges; e++) {
 #ifdef __GNUC__
@@ -183,8 +196,7 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
           __builtin_prefetch(&world[ahead->v[0]]);
         }
 #endif
-        unsigned kind = edge_kind_at(&me[e], m->tri_face, world, fn, want, crease_cos, ortho,
-                                     cam->forward, cam->eye);
+        unsigned kind = edge_kind_at(&me[e], &et);
         if (!kind) continue;
         add_edge(out, &cap, i, e, kind);
         oe->id[e] = out->n;
