@@ -152,9 +152,10 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     const SceneLines *ls = objs[i].lines;
     double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
     if (!(factor > 0)) factor = 0;
-    ScreenVert *sv = xcalloc((size_t)m->nverts + 1, sizeof *sv);   /* in = 0 behind the near plane */
+    ScreenVert *sv = xmalloc(((size_t)m->nverts + 1) * sizeof *sv);   /* every entry written below */
     for (int k = 0; k < m->nverts; k++) {
       const double *c = v[k].clip;
+      sv[k] = (ScreenVert){0, 0, 0, 0, -1};   /* in = 0: behind the near plane */
       if (c[2] + c[3] >= 0 && c[3] > 0) {
         ScreenVert s = {0, 0, 0, 0, -1};
         clip_to_screen(c, w, h, &s.x, &s.y, &s.n);

@@ -90,7 +90,7 @@ static void build_adjacency(LineObjEdges *oe, const Mesh *m, const int *imp, int
 /* World positions, clip coordinates and reference pixels of m's vertices. */
 static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
                              const Camera *cam) {
-  oe->vert = xcalloc((size_t)m->nverts + 1, sizeof *oe->vert);   /* x, y stay 0 behind the eye */
+  oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);   /* every entry written below */
   const double(*M)[4] = cam->world_to_clip.m;
   double fw = 0.5 * cam->width, fh = 0.5 * cam->height;
   for (int v = 0; v < m->nverts; v++) {
@@ -100,6 +100,7 @@ static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 
     for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
       lv->clip[r] = M[r][0] * p.x + M[r][1] * p.y + M[r][2] * p.z + M[r][3];
     double w = lv->clip[3];
+    lv->x = lv->y = 0;   /* behind the eye */
     if (w > 0) {   /* pixel = ((ndc + 1) / 2 * width, (1 - ndc.y) / 2 * height) */
       lv->x = (float)((lv->clip[0] / w + 1) * fw);
       lv->y = (float)((1 - lv->clip[1] / w) * fh);
