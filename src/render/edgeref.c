@@ -55,22 +55,15 @@ static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) 
          m->sat[ty0 * W + tx0] > 0;
 }
 
-/* Append the triangle a, b, c (pixels and nearness) if it has area and
-** reaches a tile with storage (any tile when m is NULL). */
-static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h,
-                     const TileSat *m) {
-  /* p: x0 y0 n0 x1 y1 n1 x2 y2 n2 */
+/* Append the triangle p (x0 y0 n0 x1 y1 n1 x2 y2 n2: pixels and
+** nearness), whose rows span [ymin, ymax], if it has area. */
+static void append_tri(TriList *l, const float *p, double ymin, double ymax, int obj, int tri,
+                       double factor, int h) {
   double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
   double det = ax * by - ay * bx;
   if (!(fabs(det) > 1e-12)) return;
   double an = p[5] - p[2], bn = p[8] - p[2];
   double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
-  double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
-  double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
-  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
-  if (m && !sat_any(m, (int)fmax(0, xmin) >> LINE_REF_TILE_BITS, (int)fmax(0, ymin) >> LINE_REF_TILE_BITS,
-                    (int)fmin(w - 1, xmax) >> LINE_REF_TILE_BITS, (int)fmin(h - 1, ymax) >> LINE_REF_TILE_BITS))
-    return;   /* no edge near it: nothing will read its depth */
   if (l->n == l->cap) l->t = xgrow(l->t, &l->cap, l->n + 1, sizeof *l->t);
   ScreenTri *t = &l->t[l->n++];
   for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
@@ -80,6 +73,19 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
   t->tri = tri;
   t->ymin = (int)fmax(0, floor(ymin));
   t->ymax = (int)fmin(h - 1, ceil(ymax));
+}
+
+/* Append the triangle p (as append_tri) if it has area and reaches a tile
+** with storage (any tile when m is NULL). */
+static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h,
+                     const TileSat *m) {
+  double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
+  double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
+  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (m && !sat_any(m, (int)fmax(0, xmin) >> LINE_REF_TILE_BITS, (int)fmax(0, ymin) >> LINE_REF_TILE_BITS,
+                    (int)fmin(w - 1, xmax) >> LINE_REF_TILE_BITS, (int)fmin(h - 1, ymax) >> LINE_REF_TILE_BITS))
+    return;   /* no edge near it: nothing will read its depth */
+  append_tri(l, p, ymin, ymax, obj, tri, factor, h);
 }
 
 /* Clip the triangle c[3] against the near plane (z >= -w) and append the
@@ -119,7 +125,7 @@ typedef struct ScreenVert { float x, y, n; int in, tile; } ScreenVert;
 /* Triangle t of object obj whose corners are all in front of the near
 ** plane: what add_clipped does for it (the polygon is the triangle
 ** itself), with the cheap rejections (off the image, no tile with
-** storage) before the slope arithmetic of push_tri. */
+** storage) before the slope arithmetic of append_tri. */
 static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, const ScreenVert *c,
                       int obj, int tri, double factor, int w, int h, const TileSat *m) {
   /* the corners are finite (ScreenVert.in), so plain comparisons give
@@ -137,7 +143,7 @@ static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, cons
                     (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> LINE_REF_TILE_BITS))
     return;
   float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
-  push_tri(l, p, obj, tri, factor, w, h, NULL);   /* the tiles are checked */
+  append_tri(l, p, ymin, ymax, obj, tri, factor, h);   /* box and tiles checked */
 }
 
 /* Every triangle of every object that reaches a tile of sat, with the
