@@ -4,9 +4,11 @@
 ** bands, and the n.v silhouette takes exactly the samples whose n.v is
 ** below the cutoff.
 */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../src/base/rng.h"
 #include "../../src/render/render.h"
 #include "../../src/render/shade.h"
 #include "render_scenes.h"
@@ -224,6 +226,66 @@ TEST(lights_add) {
   arena_free(&s.arena);
 }
 
+/* The bands loop shades a span in blocks, several samples side by side:
+** a span longer than a block, under a point light (falling off with
+** distance) and a sun, with specular highlights and the silhouette edge,
+** gives each sample the colour it gets when shaded alone. */
+TEST(span_equals_samples_alone) {
+  Scene s;
+  toon_scene(&s);
+  s.styles[0].shade.toon.specular = 0.5;
+  s.styles[0].shade.toon.edge = 0.2;
+  SceneLight *l = arena_alloc(&s.arena, 2 * sizeof *l);
+  l[0] = s.lights[0];
+  l[1] = (SceneLight){.kind = LIGHT_POINT, .position = v3(1, -3, 2), .color = {1, 0.9f, 0.8f, 1},
+                      .strength = 4, .falloff = FALLOFF_INVERSE_SQUARE};
+  s.lights = l;
+  s.nlights = 2;
+  RenderOptions o = {.width = 16, .height = 16, .threads = 1};
+  RenderFrame f;
+  CHECK_EQ_INT(render_prepare(&s, &o, &f), 1);
+  enum { N = 150 };   /* more than two blocks */
+  float planes[11][N], bary[N][2];
+  int32_t face[N];
+  Rng r;
+  rng_seed(&r, 7, 0);
+  for (int k = 0; k < N; k++) {
+    float n[3], v[3];
+    for (int c = 0; c < 3; c++) {
+      planes[c][k] = (float)(2 * rng_uniform(&r) - 1);        /* p */
+      n[c] = (float)(2 * rng_uniform(&r) - 1);
+      v[c] = (float)(2 * rng_uniform(&r) - 1) + (c == 1 ? -2.0f : 0.0f);
+    }
+    float ln = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    float lv = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int c = 0; c < 3; c++) {
+      planes[3 + c][k] = n[c] / ln;
+      planes[6 + c][k] = v[c] / lv;
+    }
+    planes[9][k] = planes[10][k] = 0;
+    face[k] = 0;
+    bary[k][0] = bary[k][1] = 0;
+  }
+  ShadeRow row = {&f, face, (const float(*)[2])bary, planes[0], planes[1], planes[2], planes[3],
+                  planes[4], planes[5], planes[6], planes[7], planes[8], planes[9], planes[10]};
+  float span[N][3], alone[3];
+  shade_toon_span(&row, &f.objects[0], 0, N, span[0], 3);
+  int same = 0, highlit = 0, edged = 0;
+  for (int k = 0; k < N; k++) {
+    ShadeSample one;
+    shade_row_sample(&row, &f.objects[0], k, &one);
+    shade_toon(&one, alone);
+    same += !memcmp(alone, span[k], sizeof alone);
+    highlit += span[k][0] > f.styles[0].base[0] * 2;   /* a highlight's white on top */
+    edged += span[k][0] == 0 && span[k][1] == 0 && span[k][2] == 0;
+  }
+  CHECK_EQ_INT(same, N);
+  CHECK(highlit > 0);   /* the cases the test means to cover do occur */
+  CHECK(edged > 0);
+  render_frame_free(&f);
+  arena_free(&s.arena);
+}
+
 int main(void) {
   diag_init(DIAG_TEXT);
   RUN(step_levels);
@@ -233,5 +295,6 @@ int main(void) {
   RUN(ramp_colours);
   RUN(edge_by_n_dot_v);
   RUN(lights_add);
+  RUN(span_equals_samples_alone);
   return unit_done();
 }
