@@ -171,7 +171,9 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
         sv[k] = s;
       }
     }
+    const unsigned char *hidden = objs[i].hidden;
     for (int t = 0; t < m->ntris; t++) {
+      if (hidden && hidden[t]) continue;   /* behind the object's own front */
       const int *tv = m->tri[t];
       const ScreenVert *a = &sv[tv[0]], *b = &sv[tv[1]], *c = &sv[tv[2]];
       if (a->in & b->in & c->in) {

@@ -20,6 +20,9 @@ typedef struct LineObject {
   const SceneLines *lines;
   int id;                  /* object id: keys the random streams, names SVG groups */
   Color fill;              /* linear; the SVG fills the object's visible region with it */
+  const unsigned char *hidden;   /* per triangle: a back face the object's own front hides
+                                    (a closed mesh seen from outside, as the rasterizer skips
+                                    them), left out of the reference image; or NULL */
 } LineObject;
 
 /* A vertex in the reference image: clip coordinates and, when in front of

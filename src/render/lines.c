@@ -126,6 +126,7 @@ int line_frame_objects(const RenderFrame *f, LineObject **out) {
     o[i].object_to_world = ro->object_to_world;
     o[i].lines = ro->style && ro->style->src ? &ro->style->src->lines : NULL;
     o[i].id = i;
+    o[i].hidden = ro->cull_back ? ro->backfacing : NULL;
     if (ro->style) o[i].fill = (Color){ro->style->base[0], ro->style->base[1], ro->style->base[2], 1};
   }
   *out = o;
