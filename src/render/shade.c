@@ -92,11 +92,12 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
 /* The per-sample loop of shade_row_rebuild for corners c (p0, p1, p2,
 ** n0, n1, n2). Restrict parameters: the planes overlap neither each other
 ** nor the corners, so the loop runs several samples at a time. */
-static void rebuild_lanes(const float c[6][3], const ShadeView *view, int flip, int k0, int k1,
-                          const float *restrict bary, float *restrict px, float *restrict py,
-                          float *restrict pz, float *restrict nx, float *restrict ny,
-                          float *restrict nz, float *restrict vx, float *restrict vy,
-                          float *restrict vz, float *restrict nn, float *restrict vv) {
+static inline void rebuild_lanes(const float *const c[6], const ShadeView *view, int flip, int k0,
+                                 int k1, const float *restrict bary, float *restrict px,
+                                 float *restrict py, float *restrict pz, float *restrict nx,
+                                 float *restrict ny, float *restrict nz, float *restrict vx,
+                                 float *restrict vy, float *restrict vz, float *restrict nn,
+                                 float *restrict vv) {
   const float *p0 = c[0], *p1 = c[1], *p2 = c[2], *n0 = c[3], *n1 = c[4], *n2 = c[5];
   const float *eye = view->eye, *back = view->back;
   float sign = flip ? -1.0f : 1.0f;              /* a back face's normal turns around */
@@ -124,12 +125,9 @@ static void rebuild_lanes(const float c[6][3], const ShadeView *view, int flip, 
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
                        int k0, int k1, float *nn, float *vv) {
   const int *t = o->mesh->tri[face];
-  float c[6][3];   /* corner positions, then corner normals */
-  for (int i = 0; i < 3; i++) {
-    const float *p = o->wpos[t[i]];
-    const float *n = o->wcnrm ? o->wcnrm[face][i] : o->wnrm[t[i]];   /* hard edges: corner normals */
-    for (int j = 0; j < 3; j++) { c[i][j] = p[j]; c[3 + i][j] = n[j]; }
-  }
+  const float *c[6] = {o->wpos[t[0]], o->wpos[t[1]], o->wpos[t[2]]};   /* then the normals */
+  for (int i = 0; i < 3; i++)   /* hard edges: the triangle's own corner normals */
+    c[3 + i] = o->wcnrm ? o->wcnrm[face][i] : o->wnrm[t[i]];
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
   rebuild_lanes(c, view, o->backfacing[face], k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz,
                 r->vx, r->vy, r->vz, nn, vv);
