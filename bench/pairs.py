@@ -4,13 +4,14 @@
 
 Each round runs A then B, swapping the order every other round, so slow
 spells of a shared machine fall on both alike. Prints one line:
-  median_a median_b median_of_differences median_of_stat   (seconds)
-of whole-run wall times, where a difference is A - B within the same
-round. With --minus-stat, both commands print sumi's --stats table on
-standard error, and each run's stage NAME ("image library": loading the
-image library, which sumi reports apart from the work) is taken off its
-time before the difference; the stage's median is the fourth number (0
-without the option)."""
+  median_a median_b median_of_differences median_of_stat median_of_net_differences
+(seconds) of whole-run wall times, where a difference is A - B within the
+same round. With --minus-stat, both commands print sumi's --stats table
+on standard error; the fourth number is the median of their stage NAME
+("image library": loading the image library, which sumi reports apart
+from the work), and the fifth the median of the differences with each
+run's NAME taken off first (less noisy when NAME's time is widely
+spread). Without the option they are 0 and the plain median."""
 import re
 import statistics
 import subprocess
@@ -41,15 +42,15 @@ def main():
     k = rest.index("--", 1)
     a, b = rest[1:k], rest[k + 1:]
     run(a, stat), run(b, stat)          # warm-up: page cache, libraries
-    ta, tb, diff, parts = [], [], [], []
+    ta, tb, diff, net, parts = [], [], [], [], []
     for r in range(runs):
         if r % 2 == 0:
             x, px = run(a, stat); y, py = run(b, stat)
         else:
             y, py = run(b, stat); x, px = run(a, stat)
-        ta.append(x); tb.append(y); diff.append((x - px) - (y - py)); parts += [px, py]
-    print("%.4f %.4f %.4f %.4f" % (statistics.median(ta), statistics.median(tb), statistics.median(diff),
-                                   statistics.median(parts)))
+        ta.append(x); tb.append(y); diff.append(x - y); net.append((x - px) - (y - py)); parts += [px, py]
+    print("%.4f %.4f %.4f %.4f %.4f" % (statistics.median(ta), statistics.median(tb), statistics.median(diff),
+                                        statistics.median(parts), statistics.median(net)))
 
 
 if __name__ == "__main__":

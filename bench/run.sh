@@ -9,10 +9,11 @@
 # the same command at 1x1 pixels (start-up, parsing, tessellation, writing
 # an empty image), and the median of their differences, the rendering
 # work; the two commands alternate (bench/pairs.py), so a busy spell of a
-# shared machine falls on both. For sumi's work, each run has the image
-# library's load (which --stats reports on its own, ~0.25 s and widely
-# spread) taken off first; its median is printed apart. Ratios: POV-Ray's
-# over sumi's, for the rendering work and for whole processes. Then sumi's per-stage times
+# shared machine falls on both. Ratios: POV-Ray's over sumi's, for the
+# rendering work and for whole processes. sumi's runs carry the image
+# library's load (~0.25 s, reported on its own by --stats), whose spread
+# is larger than the 1080p work: a second line per size gives sumi's work
+# with each run's load taken off first, and the ratios from it. Then sumi's per-stage times
 # (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and the peer
 # scripts in $SUMI_SHARED (default ../shared); without them that part is
 # skipped. RUNS sets the rounds per configuration (default 20: every run
@@ -47,7 +48,8 @@ for size in 512x512 1920x1080; do
     set -- $(python3 bench/pairs.py "$RUNS" --minus-stat "image library" \
                                     -- "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --stats --quiet \
                                     -- "$SUMI" render "$SCENE" -o "$DIR/s1.png" -W 1 -H 1 --threads "$t" --stats --quiet)
-    s_run=$1; s_one=$2; s_work=$3; s_lib=$4
+    s_run=$1; s_one=$2; s_work=$3; s_lib=$4; s_net=$5
+    eval "net_${W}_$t=$s_net"
     eval "work_${W}_$t=$s_work"
     if [ -n "$pov" ]; then
       set -- $(python3 bench/pairs.py "$POV_RUNS" -- povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t" \
@@ -62,7 +64,14 @@ for size in 512x512 1920x1080; do
         "$(ms "$s_work")" - - - - -
     fi
   done
-  echo "  $size: sumi's image library load, taken off each run for the work: median $(ms "$s_lib") ms"
+  eval "n1=\$net_${W}_1; n2=\$net_${W}_2"
+  line="  $size: sumi's work less each run's image library load (median $(ms "$s_lib") ms):"
+  line="$line 1 thread $(ms "$n1") ms, 2 threads $(ms "$n2") ms, 2 vs 1 $(ratio "$n1" "$n2")"
+  if [ -n "$pov" ]; then
+    eval "q1=\$pwork_${W}_1; q2=\$pwork_${W}_2"
+    line="$line; POV-Ray work over it: $(ratio "$q1" "$n1"), $(ratio "$q2" "$n2")"
+  fi
+  echo "$line"
   eval "w1=\$work_${W}_1; w2=\$work_${W}_2"
   echo "  $size: sumi 2 threads vs 1 (rendering work): $(ratio "$w1" "$w2")"
   if [ -n "$pov" ]; then   # what this machine's two cores give a renderer that parallelises well
@@ -71,7 +80,6 @@ for size in 512x512 1920x1080; do
   fi
 done
 echo "(medians of $RUNS rounds for sumi, $POV_RUNS for POV-Ray; work = median of run - the same command at 1x1;"
-echo " for sumi, each run less its image library load;"
 echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
 
 # Per-stage times: each stage's median over 7 runs of --stats.
