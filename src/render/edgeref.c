@@ -147,8 +147,9 @@ static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, cons
 }
 
 /* Every triangle of every object that reaches a tile of sat, with the
-** offset its object's edges get from it. Each vertex is projected once;
-** only triangles with a corner behind the near plane go through
+** offset its object's edges get from it, but for the back faces an
+** object's own front hides (LineObject.hidden). Each vertex is projected
+** once; only triangles with a corner behind the near plane go through
 ** add_clipped. */
 static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h,
                          const TileSat *sat) {
