@@ -128,6 +128,9 @@ typedef struct ScreenVert { float x, y, n; int in, tile; } ScreenVert;
 ** storage) before the slope arithmetic of append_tri. */
 static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, const ScreenVert *c,
                       int obj, int tri, double factor, int w, int h, const TileSat *m) {
+  /* all three corners in one tile (most small triangles): so is the box,
+  ** and one look at that tile decides */
+  if (a->tile >= 0 && a->tile == b->tile && a->tile == c->tile && m->tile[a->tile] < 0) return;
   /* the corners are finite (ScreenVert.in), so plain comparisons give
   ** what fmin and fmax give */
   float ymin = a->y < b->y ? a->y : b->y, ymax = a->y < b->y ? b->y : a->y;
@@ -162,15 +165,14 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     ScreenVert *sv = xmalloc(((size_t)m->nverts + 1) * sizeof *sv);   /* every entry written below */
     for (int k = 0; k < m->nverts; k++) {
       const double *c = v[k].clip;
-      sv[k] = (ScreenVert){0, 0, 0, 0, -1};   /* in = 0: behind the near plane */
+      ScreenVert s = {0, 0, 0, 0, -1};   /* in = 0: behind the near plane */
       if (c[2] + c[3] >= 0 && c[3] > 0) {
-        ScreenVert s = {0, 0, 0, 0, -1};
         clip_to_screen(c, w, h, &s.x, &s.y, &s.n);
         s.in = isfinite(s.x) && isfinite(s.y) && isfinite(s.n);   /* else the general path */
         if (s.in && s.x >= 0 && s.x < w && s.y >= 0 && s.y < h && sat)
           s.tile = ((int)s.y >> LINE_REF_TILE_BITS) * sat->tw + ((int)s.x >> LINE_REF_TILE_BITS);
-        sv[k] = s;
       }
+      sv[k] = s;
     }
     const unsigned char *hidden = objs[i].hidden;
     for (int t = 0; t < m->ntris; t++) {
@@ -178,10 +180,6 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
       const int *tv = m->tri[t];
       const ScreenVert *a = &sv[tv[0]], *b = &sv[tv[1]], *c = &sv[tv[2]];
       if (a->in & b->in & c->in) {
-        /* all in one tile without storage (most small triangles): its
-        ** box is in that tile, and add_front would drop it */
-        if (a->tile >= 0 && a->tile == b->tile && a->tile == c->tile && sat->tile[a->tile] < 0)
-          continue;
         add_front(l, a, b, c, i, t, factor, w, h, sat);
       } else {
         const double *cc[3] = {v[tv[0]].clip, v[tv[1]].clip, v[tv[2]].clip};
@@ -207,7 +205,7 @@ _Static_assert(LINE_REF_TILE == 8, "a row of a tile's walk mask is a byte, a til
 /* The pixels of [xa, xb] (in one tile) of row y of block b that the
 ** raster must write: bit x & (LINE_REF_TILE - 1). */
 static unsigned run_pixels(const RefTarget *rt, int b, int y, int xa, int xb) {
-  unsigned bits = (0xFFu << (xa & (LINE_REF_TILE - 1))) & (0xFFu >> (7 - (xb & (LINE_REF_TILE - 1))));
+  unsigned bits = (0xFFu << (xa & (LINE_REF_TILE - 1))) & (0xFFu >> (LINE_REF_TILE - 1 - (xb & (LINE_REF_TILE - 1))));
   if (rt->walk) bits &= rt->walk[(size_t)b * LINE_REF_TILE + (y & (LINE_REF_TILE - 1))];
   return bits;
 }
@@ -276,6 +274,17 @@ static inline int tri_row(const TriSides *s, double py, double *lo, double *hi) 
   return l <= h;
 }
 
+/* The pixel columns xa..xb (clamped to 0..xhi) whose centres x + 0.5 lie
+** in [lo, hi] (lo >= 0.5); 0 when there are none. */
+static int centre_columns(double lo, double hi, int xhi, int *xa, int *xb) {
+  double a0 = lo - 0.5, b0 = hi - 0.5;   /* a0 >= 0, so truncation floors */
+  *xa = (int)a0;
+  *xb = (int)b0;
+  if (*xa < a0) (*xa)++;
+  if (*xb > xhi) *xb = xhi;
+  return *xa <= *xb;
+}
+
 /* Which rows of [ra, rb], all in one tile row, need the row raster of
 ** sides s: rows[y & (LINE_REF_TILE - 1)] nonzero; 0 when none do. Rounding
 ** is monotone, so over those rows each side's bound lies between its values
@@ -299,13 +308,8 @@ static int reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb, ui
       hi = u < hi ? u : hi;
     }
   }
-  if (!(lo <= hi)) return 0;
-  /* as raster_row turns its bounds into columns */
-  double a0 = lo - 0.5, b0 = hi - 0.5;
-  int xa = (int)a0, xb = (int)b0;
-  if (xa < a0) xa++;
-  if (xb > xhi) xb = xhi;
-  if (xa > xb) return 0;
+  int xa, xb;
+  if (!(lo <= hi) || !centre_columns(lo, hi, xhi, &xa, &xb)) return 0;
   uint64_t any = 0;   /* the eight row masks of the blocks, or-ed */
   const int *tiles = ref->tile + (size_t)(ra >> LINE_REF_TILE_BITS) * ref->tw;
   for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
@@ -332,13 +336,8 @@ static void raster_row(const ScreenTri *t, uint32_t k, const RefTarget *rt, cons
   const LineRef *ref = rt->ref;
   int xhi = ref->width - 1;
   double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
-  if (!tri_row(s, py, &lo, &hi)) return;
-  /* pixel centres x + 0.5 in [lo, hi]; lo - 0.5 >= 0, so truncation floors */
-  double a0 = lo - 0.5, b0 = hi - 0.5;
-  int xa = (int)a0, xb = (int)b0;
-  if (xa < a0) xa++;
-  if (xb > xhi) xb = xhi;
-  if (xa > xb) return;
+  int xa, xb;
+  if (!tri_row(s, py, &lo, &hi) || !centre_columns(lo, hi, xhi, &xa, &xb)) return;
   double n0 = t->n[0] + dndx * (xa + 0.5 - (double)t->x[0]) + dndy * (py - (double)t->y[0]);
   const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
   for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {

@@ -677,7 +677,6 @@ typedef struct Worker {
   float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
   float *prow;                 /* a tile row of pixels bound for an 8-bit image */
   ShadeRow row;                /* a tile row's rebuilt surface samples */
-  float *row_planes;           /* the planes row points into */
   double raster_s, shade_s;
 } Worker;
 
@@ -899,11 +898,7 @@ static void run_workers(TileJob *job, int nthreads) {
       ws[i].face = xmalloc(n * sizeof *ws[i].face);
       ws[i].bary = xmalloc(n * sizeof *ws[i].bary);
     }
-    float *pl = ws[i].row_planes = xcalloc(11 * side, sizeof *pl);   /* p, n, v, uv */
-    ws[i].row = (ShadeRow){.frame = job->f, .px = pl, .py = pl + side, .pz = pl + 2 * side,
-                           .nx = pl + 3 * side, .ny = pl + 4 * side, .nz = pl + 5 * side,
-                           .vx = pl + 6 * side, .vy = pl + 7 * side, .vz = pl + 8 * side,
-                           .u = pl + 9 * side, .v = pl + 10 * side};
+    shade_row_alloc(&ws[i].row, job->f, (int)side);
     if (job->f->samples > 1)
       ws[i].rows = xmalloc((size_t)job->f->samples * side * 4 * sizeof *ws[i].rows);
     ws[i].prow = xmalloc(side * 4 * sizeof *ws[i].prow);
@@ -927,7 +922,7 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].bary);
     free(ws[i].rows);
     free(ws[i].prow);
-    free(ws[i].row_planes);
+    shade_row_free(&ws[i].row);
   }
   free(ws);
   free(tid);

@@ -5,6 +5,7 @@
 #include "shade.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "../base/mem.h"
 
@@ -88,6 +89,16 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
 }
 
 /* ---- rows of samples ---------------------------------------------------- */
+
+void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n) {
+  float *pl = xcalloc(11 * (size_t)n, sizeof *pl);   /* p, n, v, uv: one block, px first */
+  *r = (ShadeRow){.frame = f, .px = pl, .py = pl + n, .pz = pl + 2 * n,
+                  .nx = pl + 3 * n, .ny = pl + 4 * n, .nz = pl + 5 * n,
+                  .vx = pl + 6 * n, .vy = pl + 7 * n, .vz = pl + 8 * n,
+                  .u = pl + 9 * n, .v = pl + 10 * n};
+}
+
+void shade_row_free(ShadeRow *r) { free(r->px); }
 
 /* The per-sample loop of shade_row_rebuild for corners c (p0, p1, p2,
 ** n0, n1, n2). Restrict parameters: the planes overlap neither each other

@@ -61,6 +61,11 @@ typedef struct ShadeRow {
   float *u, *v;
 } ShadeRow;
 
+/* A row of n samples for frame f, its planes zeroed; shade_row_free
+** releases them. */
+void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n);
+void shade_row_free(ShadeRow *r);
+
 /* The camera as the rebuild needs it: the eye, or for an orthographic
 ** camera the one view vector. */
 typedef struct ShadeView {

@@ -79,6 +79,31 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
   }
 }
 
+/* The specular term T_m(f_s) times the style's strength, for samples
+** k0..k0+n-1 of r lit by directions l* with n.l in nl, into ts: 0 for the
+** samples whose n.h / |h| does not pass the cut (tested without a square
+** root, most samples) and the power only for the few that do. */
+static void highlight_block(const ShadeRow *r, const RenderStyle *st, int k0, int n,
+                            const float *lx, const float *ly, const float *lz, const float *nl,
+                            float *restrict ts) {
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+  float cut2 = st->spec_cut * st->spec_cut, nhs[TOON_BLOCK], hhs[TOON_BLOCK];
+  int lit[TOON_BLOCK], any = 0;
+  for (int j = 0; j < n; j++) {
+    float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];   /* unnormalised half vector */
+    float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
+    lit[j] = !(nl[j] <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
+    nhs[j] = nh;
+    hhs[j] = hh;
+    any |= lit[j];
+    ts[j] = 0;
+  }
+  if (any)
+    for (int j = 0; j < n; j++)
+      if (lit[j]) ts[j] = st->specular * banded_specular_tail(st, nhs[j], hhs[j]);
+}
+
 /* Bands for samples k0..k0+n-1 (n <= TOON_BLOCK): T_n on each light's
 ** diffuse term, T_m on its specular term, the sums per channel in planes.
 ** Each sample's arithmetic is the same, in the same order, whether it is
@@ -90,32 +115,21 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
   const float *base = st->base;
-  float cut2 = st->spec_cut * st->spec_cut, spec = st->specular;
   float lx[TOON_BLOCK], ly[TOON_BLOCK], lz[TOON_BLOCK], fall[TOON_BLOCK];
-  float td[TOON_BLOCK], ts[TOON_BLOCK], nhs[TOON_BLOCK], hhs[TOON_BLOCK];
-  int lit[TOON_BLOCK];
+  float nl[TOON_BLOCK], td[TOON_BLOCK], ts[TOON_BLOCK];
   for (int j = 0; j < n; j++) {
     R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
+    ts[j] = 0;   /* no specular: stays 0 */
   }
   for (int i = 0; i < r->frame->nlights; i++) {
     const RenderLight *lt = &r->frame->lights[i];
     light_block(lt, r, k0, n, lx, ly, lz, fall);
-    int any = 0;
     for (int j = 0; j < n; j++) {
       float d = nx[j] * lx[j] + ny[j] * ly[j] + nz[j] * lz[j];
+      nl[j] = d;
       td[j] = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
-      float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];   /* unnormalised half vector */
-      float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
-      /* n.h / |h| above the cut, tested without the square root (most samples fail it) */
-      lit[j] = !(d <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
-      nhs[j] = nh;
-      hhs[j] = hh;
-      any |= lit[j];
-      ts[j] = 0;
     }
-    if (spec > 0 && any)
-      for (int j = 0; j < n; j++)
-        if (lit[j]) ts[j] = spec * banded_specular_tail(st, nhs[j], hhs[j]);
+    if (st->specular > 0) highlight_block(r, st, k0, n, lx, ly, lz, nl, ts);
     for (int j = 0; j < n; j++) {
       float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
       R[j] += (base[0] * td[j] + ts[j]) * c0;
