@@ -321,6 +321,30 @@ static void frame_path(char *buf, size_t n, const char *output, int frame) {
   snprintf(buf, n, "%.*s_%04d%s", (int)(dot - output), output, frame, dot);
 }
 
+/* The output file fed by the renderer a band of rows at a time while it
+** renders (RenderRows), when the frame's format takes its 8-bit codes as
+** they are; otherwise begun stays 0 and the whole image is written after. */
+typedef struct OutputStream {
+  const char *path;
+  int begun;
+  ImageStream *file;          /* once begun: NULL when the file could not be opened */
+  char err[512];              /* why it could not */
+} OutputStream;
+
+static void stream_begin(void *ctx, const Image *img) {
+  OutputStream *os = ctx;
+  if (!image_stream_fits(os->path, img->channels)) return;   /* image_write converts it */
+  os->begun = 1;
+  os->file = image_stream_open(os->path, img->width, img->height, img->channels, os->err,
+                               sizeof os->err);
+}
+
+static void stream_rows(void *ctx, const Image *img, int y0, int y1) {
+  OutputStream *os = ctx;
+  if (os->file)
+    image_stream_rows(os->file, y0, y1, img->data8 + (size_t)y0 * img->width * img->channels);
+}
+
 /* Render the evaluated scene to path (an image, or the strokes as SVG),
 ** with the --aov passes beside it. Returns the exit status. */
 static int render_to(const Options *o, const Scene *scene, const char *path) {
@@ -332,21 +356,28 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   const char *ext = strrchr(path, '.');
   if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
   ro.out8 = image_write_is_8bit(path);
+  OutputStream os = {path, 0, NULL, ""};
+  RenderRows rows = {&os, stream_begin, stream_rows};
+  ro.rows = &rows;
   Image *img = NULL;
   GBuffer *gb = NULL;
   int status = 1;
   if (render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
     char err[512];
     double t0 = now_seconds();
-    status = image_write(path, img, err, sizeof err) ? 0 : 1;
+    if (!os.begun) status = image_write(path, img, err, sizeof err) ? 0 : 1;
+    else if (os.file) status = image_stream_close(os.file, err, sizeof err) ? 0 : 1;
+    else snprintf(err, sizeof err, "%s", os.err);
     if (status) fprintf(stderr, "sumi: %s\n", err);
     double load = image_bridge_load_seconds();   /* dlopen of OpenImageIO, on first use */
     stats_record("image library", load);
-    stats_record("write", now_seconds() - t0 - load);
+    stats_record("write", now_seconds() - t0 - (os.begun ? 0 : load));
     if (!status && gb && !render_write_aovs(gb, path, o->aov, err, sizeof err)) {
       fprintf(stderr, "sumi: %s\n", err);
       status = 1;
     }
+  } else if (os.file) {
+    image_stream_discard(os.file);
   }
   image_destroy(img);
   gbuf_destroy(gb);

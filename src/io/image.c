@@ -369,32 +369,120 @@ static int make_temp(const char *path, char *tmp, size_t size) {
   return 0;
 }
 
-/* Write px through the bridge to a temporary file, then rename it to path.
-** On any failure the temporary file is removed. */
-static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
-                        char *err, size_t errlen) {
+/* Load the bridge and create the temporary file for path in tmp (size
+** bytes). Returns 1, or 0 with the reason in err. */
+static int begin_write(const char *path, char *tmp, size_t size, char *err, size_t errlen) {
   char why[768];
   if (!image_bridge_load(why, sizeof why)) {
     set_err(err, errlen, "cannot write '%s': %s", path, why);
     return 0;
   }
-  char tmp[PATH_MAX + 64];
-  if (!make_temp(path, tmp, sizeof tmp)) {
+  if (!make_temp(path, tmp, size)) {
     set_err(err, errlen, "cannot write '%s': %s", path, strerror(errno));
     return 0;
   }
+  return 1;
+}
+
+/* Rename the written tmp to path; on failure remove it. */
+static int end_write(const char *path, const char *tmp, char *err, size_t errlen) {
+  if (rename(tmp, path) == 0) return 1;
+  int e = errno;
+  unlink(tmp);
+  set_err(err, errlen, "cannot write '%s': %s", path, strerror(e));
+  return 0;
+}
+
+/* Write px through the bridge to a temporary file, then rename it to path.
+** On any failure the temporary file is removed. */
+static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
+                        char *err, size_t errlen) {
+  char tmp[PATH_MAX + 64], why[768];
+  if (!begin_write(path, tmp, sizeof tmp, err, errlen)) return 0;
   if (!bridge->write(tmp, px, w, why, sizeof why)) {
     unlink(tmp);
     set_err(err, errlen, "cannot write '%s': %s", path, why);
     return 0;
   }
-  if (rename(tmp, path) != 0) {
-    int e = errno;
-    unlink(tmp);
-    set_err(err, errlen, "cannot write '%s': %s", path, strerror(e));
-    return 0;
+  return end_write(path, tmp, err, errlen);
+}
+
+/* ---- streamed writing ------------------------------------------------- */
+
+struct ImageStream {
+  SumiOiioStream *out;
+  int width, height, channels;
+  int next;                   /* the first row not yet written */
+  int failed;                 /* why holds the first failure */
+  char why[768];
+  char path[PATH_MAX], tmp[PATH_MAX + 64];
+};
+
+int image_stream_fits(const char *path, int nc) {
+  ImageFormat fmt = format_of(path);
+  return nc >= 1 && nc <= 4 && (fmt == FMT_PNG || fmt == FMT_TIFF || (fmt == FMT_JPEG && nc % 2));
+}
+
+ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err, size_t errlen) {
+  if (!image_stream_fits(path, nc) || strlen(path) >= PATH_MAX) {
+    set_err(err, errlen, "cannot write '%s': not an 8-bit image file for %d channels", path, nc);
+    return NULL;
   }
-  return 1;
+  ImageStream *s = xcalloc(1, sizeof *s);
+  if (!begin_write(path, s->tmp, sizeof s->tmp, err, errlen)) {
+    free(s);
+    return NULL;
+  }
+  snprintf(s->path, sizeof s->path, "%s", path);
+  s->width = w;
+  s->height = h;
+  s->channels = nc;
+  int ac = nc == 2 || nc == 4 ? nc - 1 : -1;
+  SumiOiioPixels px = {w, h, nc, SUMI_OIIO_UINT8, ac, NULL, ""};
+  SumiOiioWrite how = {0, NULL, "sRGB", 0};   /* what write_encoded gives an 8-bit image */
+  s->out = bridge->stream_open(s->tmp, &px, &how, s->why, sizeof s->why);
+  if (!s->out) {
+    unlink(s->tmp);
+    set_err(err, errlen, "cannot write '%s': %s", path, s->why);
+    free(s);
+    return NULL;
+  }
+  return s;
+}
+
+void image_stream_rows(ImageStream *s, int y0, int y1, const uint8_t *codes) {
+  if (!s->failed && !bridge->stream_rows(s->out, y0, y1, codes, s->why, sizeof s->why))
+    s->failed = 1;
+  s->next = y1;
+}
+
+void image_stream_discard(ImageStream *s) {
+  /* blank rows to the end first: a format library closing a short image
+  ** complains on standard error */
+  uint8_t *blank = xcalloc((size_t)s->width * (size_t)s->channels, 1);
+  while (s->next < s->height) image_stream_rows(s, s->next, s->next + 1, blank);
+  free(blank);
+  char why[768];
+  bridge->stream_close(s->out, why, sizeof why);
+  unlink(s->tmp);
+  free(s);
+}
+
+int image_stream_close(ImageStream *s, char *err, size_t errlen) {
+  char why[768];
+  if (!bridge->stream_close(s->out, why, sizeof why) && !s->failed) {
+    s->failed = 1;
+    memcpy(s->why, why, sizeof why);
+  }
+  int ok = 0;
+  if (s->failed) {
+    unlink(s->tmp);
+    set_err(err, errlen, "cannot write '%s': %s", s->path, s->why);
+  } else {
+    ok = end_write(s->path, s->tmp, err, errlen);
+  }
+  free(s);
+  return ok;
 }
 
 /* Colour channels of img in file order as 8- or 16-bit codes, dropping

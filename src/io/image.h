@@ -75,6 +75,26 @@ int image_write(const char *path, const Image *img, char *err, size_t errlen);
 int image_write_opts(const char *path, const Image *img, const ImageWriteOptions *opt,
                      char *err, size_t errlen);
 
+/* Writing an 8-bit image a band of rows at a time, as a renderer finishes
+** them: the file image_write makes of the whole image, byte for byte,
+** through the same temporary name, renamed into place by
+** image_stream_close. For the formats and channel counts whose 8-bit codes
+** image_write stores unchanged: png and tif with 1-4 channels, jpg
+** without alpha (image_stream_fits). */
+typedef struct ImageStream ImageStream;
+int image_stream_fits(const char *path, int nc);
+/* Load the bridge and create the file for a w x h image of nc channels;
+** NULL with the reason in err when that fails. */
+ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err, size_t errlen);
+/* The next rows, y0..y1-1 (top to bottom, no gaps), as 8-bit codes. A
+** failure is kept for image_stream_close to report; later rows are dropped. */
+void image_stream_rows(ImageStream *s, int y0, int y1, const uint8_t *codes);
+/* Finish the file and rename it into place, or remove it after any failure
+** (returned as 0 with the reason in err); frees s. */
+int image_stream_close(ImageStream *s, char *err, size_t errlen);
+/* Give the file up: remove it and free s. */
+void image_stream_discard(ImageStream *s);
+
 /* Read path into a new Image (*out; free with image_destroy): integer
 ** formats are sRGB-decoded to linear (alpha linearly), float formats kept
 ** as stored. Errors say whether the file is missing, not an image, or

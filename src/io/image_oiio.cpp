@@ -149,29 +149,54 @@ static ImageSpec make_spec(const char *path, const SumiOiioPixels *px, const Sum
   return spec;
 }
 
-static int write_impl(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
-                      char *err, size_t errlen) {
+/* An open ImageOutput and what writing it needs. */
+struct SumiOiioStream {
+  std::unique_ptr<ImageOutput> out;
+  TypeDesc mem;
+};
+
+/* Create the file for px (size and type; data not read) with w's settings. */
+static SumiOiioStream *open_impl(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
+                                 char *err, size_t errlen) {
   TypeDesc mem = to_typedesc(px->type);
   if (mem == TypeDesc::UNKNOWN || px->width <= 0 || px->height <= 0 || px->channels <= 0) {
     set_err(err, errlen, "bad pixel description");
-    return 0;
+    return nullptr;
   }
   std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
   if (!out) {
     set_err(err, errlen, first_line(OIIO::geterror()));
-    return 0;
+    return nullptr;
   }
   ImageSpec spec = make_spec(path, px, w);
   if (!out->open(path, spec)) {
     set_err(err, errlen, first_line(out->geterror()));
-    return 0;
+    return nullptr;
   }
-  bool ok = out->write_image(mem, px->data);
-  std::string msg = ok ? std::string() : out->geterror();
-  if (!out->close() && ok) {
-    ok = false;
-    msg = out->geterror();
-  }
+  return new SumiOiioStream{std::move(out), mem};
+}
+
+static int rows_impl(SumiOiioStream *s, int y0, int y1, const void *rows, char *err, size_t errlen) {
+  if (s->out->write_scanlines(y0, y1, 0, s->mem, rows)) return 1;
+  set_err(err, errlen, first_line(s->out->geterror()));
+  return 0;
+}
+
+/* Finish the file and free s. */
+static int close_impl(SumiOiioStream *s, char *err, size_t errlen) {
+  std::unique_ptr<SumiOiioStream> owned(s);
+  if (s->out->close()) return 1;
+  set_err(err, errlen, first_line(s->out->geterror()));
+  return 0;
+}
+
+static int write_impl(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
+                      char *err, size_t errlen) {
+  SumiOiioStream *s = open_impl(path, px, w, err, errlen);
+  if (!s) return 0;
+  bool ok = s->out->write_image(s->mem, px->data);
+  std::string msg = ok ? std::string() : s->out->geterror();
+  if (!close_impl(s, err, errlen)) return 0;
   if (!ok) set_err(err, errlen, first_line(msg));
   return ok ? 1 : 0;
 }
@@ -241,18 +266,6 @@ static int read_impl(const char *path, int want, long long max_pixels, int max_c
 
 /* ---- the C boundary: nothing thrown gets past these ------------------- */
 
-static int bridge_write(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
-                        char *err, size_t errlen) {
-  try {
-    return write_impl(path, px, w, err, errlen);
-  } catch (const std::exception &e) {
-    set_err(err, errlen, std::string("OpenImageIO failed: ") + e.what());
-  } catch (...) {
-    set_err(err, errlen, "OpenImageIO failed with an unknown exception");
-  }
-  return 0;
-}
-
 static int bridge_read(const char *path, int want, long long max_pixels, int max_channels,
                        SumiOiioPixels *px, char *err, size_t errlen) {
   try {
@@ -267,9 +280,43 @@ static int bridge_read(const char *path, int want, long long max_pixels, int max
   return SUMI_OIIO_CORRUPT;
 }
 
+/* Run f, turning any exception into a 0 result (or fail) and a message. */
+template <typename R, typename F>
+static R guarded(R fail, char *err, size_t errlen, F f) {
+  try {
+    return f();
+  } catch (const std::exception &e) {
+    set_err(err, errlen, std::string("OpenImageIO failed: ") + e.what());
+  } catch (...) {
+    set_err(err, errlen, "OpenImageIO failed with an unknown exception");
+  }
+  return fail;
+}
+
+static int bridge_write(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
+                        char *err, size_t errlen) {
+  return guarded(0, err, errlen, [&] { return write_impl(path, px, w, err, errlen); });
+}
+
+static SumiOiioStream *bridge_stream_open(const char *path, const SumiOiioPixels *px,
+                                          const SumiOiioWrite *w, char *err, size_t errlen) {
+  return guarded<SumiOiioStream *>(nullptr, err, errlen,
+                                   [&] { return open_impl(path, px, w, err, errlen); });
+}
+
+static int bridge_stream_rows(SumiOiioStream *s, int y0, int y1, const void *rows, char *err,
+                              size_t errlen) {
+  return guarded(0, err, errlen, [&] { return rows_impl(s, y0, y1, rows, err, errlen); });
+}
+
+static int bridge_stream_close(SumiOiioStream *s, char *err, size_t errlen) {
+  return guarded(0, err, errlen, [&] { return close_impl(s, err, errlen); });
+}
+
 extern "C" const SumiOiioApi *sumi_oiio_api(void) {
   static const SumiOiioApi api = {
     SUMI_OIIO_API_VERSION, OIIO_VERSION_STRING, bridge_write, bridge_read,
+    bridge_stream_open, bridge_stream_rows, bridge_stream_close,
   };
   return &api;
 }

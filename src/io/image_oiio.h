@@ -1,7 +1,8 @@
 /*
 ** The OpenImageIO bridge: a plain C view of the few OIIO calls sumi needs
-** (write one image, read one image). It is built on its own as
-** libsumi_oiio.so and loaded by image.c with dlopen on first use, so a
+** (write one image, whole or a band of rows at a time; read one image). It
+** is built on its own as libsumi_oiio.so and loaded by image.c with dlopen
+** on first use, so a
 ** command that touches no image never pays OIIO's start-up. image.c finds
 ** everything through the single exported symbol sumi_oiio_api().
 **
@@ -23,7 +24,7 @@ extern "C" {
 
 /* Bumped whenever SumiOiioApi or the structs below change shape, so a stale
 ** libsumi_oiio.so from an older build is refused instead of misused. */
-#define SUMI_OIIO_API_VERSION 1
+#define SUMI_OIIO_API_VERSION 2
 
 /* Pixel types crossing the bridge. */
 enum {
@@ -58,6 +59,9 @@ typedef struct SumiOiioWrite {
   int quality;                       /* JPEG quality 1..100, 0: default */
 } SumiOiioWrite;
 
+/* A file being written a band of rows at a time (stream_open). */
+typedef struct SumiOiioStream SumiOiioStream;
+
 typedef struct SumiOiioApi {
   int version;                       /* SUMI_OIIO_API_VERSION */
   const char *oiio_version;          /* OpenImageIO's own version string */
@@ -78,6 +82,16 @@ typedef struct SumiOiioApi {
   ** before any allocation); max_channels bounds the channel count. */
   int (*read)(const char *path, int want, long long max_pixels, int max_channels,
               SumiOiioPixels *px, char *err, size_t errlen);
+  /* write, for pixels that arrive a band of rows at a time: open path
+  ** for px's size and type (px->data is not read), hand stream_rows rows
+  ** y0..y1-1 in order, top to bottom, then stream_close, which frees the
+  ** stream whatever happened before. The file gets the bytes write gives
+  ** for the whole image. Each returns 1, or 0 with a message in err (open
+  ** returns NULL then); the file may be partial, as with write. */
+  SumiOiioStream *(*stream_open)(const char *path, const SumiOiioPixels *px,
+                                 const SumiOiioWrite *w, char *err, size_t errlen);
+  int (*stream_rows)(SumiOiioStream *s, int y0, int y1, const void *rows, char *err, size_t errlen);
+  int (*stream_close)(SumiOiioStream *s, char *err, size_t errlen);
 } SumiOiioApi;
 
 /* The one exported symbol: the bridge's function table. Never NULL. */

@@ -145,6 +145,16 @@ static const char *texture_path(const SceneLines *ls, char *out, size_t n) {
   return out;
 }
 
+int line_frame_draws(const RenderFrame *f) {
+  for (int i = 0; i < f->nobjects; i++) {
+    const RenderObject *ro = &f->objects[i];
+    LineObject o = {.mesh = ro->mesh,
+                    .lines = ro->style && ro->style->src ? &ro->style->src->lines : NULL};
+    if (draws_lines(&o)) return 1;
+  }
+  return 0;
+}
+
 int line_render_frame(const RenderFrame *f, int threads, Image *target, StrokeList **strokes_out,
                       LineStats *stats) {
   LineObject *objs;

@@ -46,6 +46,9 @@ int line_render(const LineObject *objs, int nobj, const Camera *cam, Image *targ
 ** frame order: *out is malloc'ed (free it); returns the count. */
 int line_frame_objects(const RenderFrame *f, LineObject **out);
 
+/* Does any object of f draw lines (line_render_frame changes its image)? */
+int line_frame_draws(const RenderFrame *f);
+
 /* line_render for a prepared frame (render_scene calls it after shading,
 ** with the frame's camera and threads workers). Records its stages in the
 ** --stats table (stats.h). A failure is reported as a diagnostic at the

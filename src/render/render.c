@@ -665,6 +665,11 @@ typedef struct TileJob {
   ShadeSpanFn *span;           /* per style: its model's span shader */
   ShadeView view;              /* the camera as the rebuild needs it */
   atomic_int next;
+  const RenderRows *rows;      /* finished bands go here during the pass, or NULL */
+  atomic_int *band_left;       /* with rows: per tile row, its tiles not yet shaded */
+  pthread_mutex_t band_lock;   /* held by the worker handing bands over */
+  int next_band;               /* under band_lock: the first band not handed over */
+  double write_s;              /* summed time of the rows calls */
 } TileJob;
 
 /* One worker's state: its tile planes (when there is no whole G-buffer)
@@ -677,7 +682,7 @@ typedef struct Worker {
   float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
   float *prow;                 /* a tile row of pixels bound for an 8-bit image */
   ShadeRow row;                /* a tile row's rebuilt surface samples */
-  double raster_s, shade_s;
+  double raster_s, shade_s, write_s;
 } Worker;
 
 /* The target for tile (tx, ty): the whole G-buffer's planes, or the
@@ -864,6 +869,32 @@ static void raster_items(const Bins *b, int i0, int i1, float far, RastTarget *r
   }
 }
 
+/* Hand job->rows every band from the first not yet handed over that is
+** wholly shaded (band_left 0: the last decrement of each came after its
+** pixels were written). The caller holds band_lock or is alone. */
+static void hand_bands(TileJob *job) {
+  int tiles_y = job->bins->tiles_y, h = job->f->height;
+  for (; job->next_band < tiles_y && atomic_load(&job->band_left[job->next_band]) == 0;
+       job->next_band++) {
+    int y0 = job->next_band * RENDER_TILE, y1 = y0 + RENDER_TILE < h ? y0 + RENDER_TILE : h;
+    job->rows->rows(job->rows->ctx, job->out, y0, y1);
+  }
+}
+
+/* A tile of row ty is shaded. When that completes the row's band, hand
+** the finished bands over, unless another worker is already doing so: it
+** then goes back to tiles, and the band is taken by the busy worker's
+** loop, the next band finished, or run_workers after the pass. */
+static void tile_done(Worker *w, int ty) {
+  TileJob *job = w->job;
+  if (atomic_fetch_sub(&job->band_left[ty], 1) != 1) return;
+  if (pthread_mutex_trylock(&job->band_lock) != 0) return;
+  double t0 = stats_now();
+  hand_bands(job);
+  pthread_mutex_unlock(&job->band_lock);
+  w->write_s += stats_now() - t0;
+}
+
 static void *tile_worker(void *arg) {
   Worker *w = arg;
   TileJob *job = w->job;
@@ -882,6 +913,7 @@ static void *tile_worker(void *arg) {
     shade_tile(job, &rt, w->rows, &w->row, w->prow);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
+    if (job->rows) tile_done(w, k / b->tiles_x);
   }
   return NULL;
 }
@@ -907,11 +939,17 @@ static void run_workers(TileJob *job, int nthreads) {
     if (pthread_create(&tid[i], NULL, tile_worker, &ws[i]) != 0)
       sumi_fatal("cannot start render thread %d", i);
   tile_worker(&ws[0]);
-  double raster = ws[0].raster_s, shade = ws[0].shade_s;
+  double raster = ws[0].raster_s, shade = ws[0].shade_s, write = ws[0].write_s;
   for (int i = 1; i < nthreads; i++) {
     pthread_join(tid[i], NULL);
     raster += ws[i].raster_s;
     shade += ws[i].shade_s;
+    write += ws[i].write_s;
+  }
+  if (job->rows) {   /* bands a busy worker left */
+    double t0 = stats_now();
+    hand_bands(job);
+    job->write_s = write + stats_now() - t0;
   }
   stats_record_cpu("raster", raster);
   stats_record_cpu("shade", shade);
@@ -928,7 +966,8 @@ static void run_workers(TileJob *job, int nthreads) {
   free(tid);
 }
 
-void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuffer **gbuf_out) {
+void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
+                  GBuffer **gbuf_out) {
   int N = f->samples, gw = f->width * N, gh = f->height * N;
   double t0 = stats_now();
   int nthreads = thread_count(o);
@@ -958,6 +997,12 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
     job.view.want_uv |= shade_reads_uv(f->styles[i].kind);
   }
   atomic_init(&job.next, 0);
+  if (rows) {
+    job.rows = rows;
+    job.band_left = xmalloc((size_t)bins.tiles_y * sizeof *job.band_left);
+    for (int ty = 0; ty < bins.tiles_y; ty++) atomic_init(&job.band_left[ty], bins.tiles_x);
+    pthread_mutex_init(&job.band_lock, NULL);
+  }
   if (gbuf_out) {
     job.full = gbuf_create(f->width, f->height, N);
     job.full->camera = camera_scaled(&f->camera, gw, gh);
@@ -966,6 +1011,11 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuf
   run_workers(&job, nthreads < ntiles ? nthreads : ntiles);
   stats_record("raster+shade", stats_now() - t1);
   if (gbuf_out) *gbuf_out = job.full;
+  if (rows) {
+    stats_record_cpu("write", job.write_s);   /* the file's encoding, inside the pass */
+    free(job.band_left);
+    pthread_mutex_destroy(&job.band_lock);
+  }
   free(job.span);
   bins_free(&bins);
 }
@@ -1040,9 +1090,12 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     mem_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
   }
   stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
+  /* an 8-bit frame nothing is drawn over goes to its file while the pass runs */
+  const RenderRows *rows = o->rows && (*out)->data8 && !line_frame_draws(&f) ? o->rows : NULL;
+  if (rows) rows->begin(rows->ctx, *out);
   /* origami composes with meshes through the sample depths, so it needs the G-buffer */
   GBuffer *gbuf = NULL;
-  render_frame(&f, o, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);
+  render_frame(&f, o, rows, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);
   if (gbuf_out) *gbuf_out = gbuf;
   int ok = 1;
   if (s->norigami > 0) {

@@ -11,7 +11,9 @@
 **   lines     the line stage (lines.h) draws its strokes over the image
 ** Setup, raster and shade run in chunks and screen tiles on --threads
 ** workers; every chunk's and tile's result depends only on the scene, so
-** the image is byte-identical at any thread count. Each stage records its
+** the image is byte-identical at any thread count. An 8-bit frame nothing
+** is drawn over goes to its file a band of tile rows at a time while the
+** pass runs (RenderRows): encoding it is work the workers share. Each stage records its
 ** time in the --stats table (stats.h).
 **
 ** The prepared frame (RenderFrame) is public so later stages (lines, AOVs)
@@ -49,12 +51,26 @@
 /* Screen tiles, in output pixels a side (a tile is TILE * samples samples). */
 #define RENDER_TILE 32
 
+/* A taker of an 8-bit frame's finished rows, so that encoding the file
+** overlaps rendering. render_scene uses it when nothing is drawn over the
+** frame after the tile pass (no lines, no origami): begin once, with the
+** frame's image (size, channels), before the tile pass; then rows with
+** rows y0..y1-1 of img as soon as they and every row above them are
+** shaded, in order, one call at a time, from whichever worker finished
+** them. Without begin having been called, the caller writes the frame. */
+typedef struct RenderRows {
+  void *ctx;
+  void (*begin)(void *ctx, const Image *img);
+  void (*rows)(void *ctx, const Image *img, int y0, int y1);
+} RenderRows;
+
 typedef struct RenderOptions {
   int width, height;   /* after -W/-H (render_resolve_size); 0: the scene's, or 640 x 480 */
   int threads;         /* workers, >= 1; 0 = one per online CPU */
   int stats;           /* the caller prints stats.h's table (stages always record) */
   int samples;         /* 0: the scene's `samples`; else overrides it */
   int out8;            /* the frame goes to an 8-bit file: render_scene may make it 8-bit */
+  const RenderRows *rows;   /* with out8: the file's encoder, or NULL */
 } RenderOptions;
 
 /* A light resolved for shading: floats, world space. */
@@ -131,10 +147,13 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f);
 void render_frame_free(RenderFrame *f);
 
 /* Rasterize and shade f into out (an image of f's size created by the
-** caller: RGB, or RGBA when the background is not opaque). When gbuf_out is not NULL, *gbuf_out receives the whole
-** G-buffer (caller frees with gbuf_destroy); otherwise each worker keeps
-** only the tile it is drawing. */
-void render_frame(const RenderFrame *f, const RenderOptions *o, Image *out, GBuffer **gbuf_out);
+** caller: RGB, or RGBA when the background is not opaque). With rows (its
+** begin already called), out's bands go to it as they are finished. When
+** gbuf_out is not NULL, *gbuf_out receives the whole G-buffer (caller
+** frees with gbuf_destroy); otherwise each worker keeps only the tile it
+** is drawing. */
+void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
+                  GBuffer **gbuf_out);
 
 /* The whole pipeline: prepare, rasterize, shade, lines. *out receives a
 ** new image (image_destroy): RGB when the background is opaque, else RGBA

@@ -426,6 +426,76 @@ TEST(same_image_same_bytes) {
   image_destroy(img);
 }
 
+/* ---- streamed writing ------------------------------------------------------ */
+
+/* An 8-bit image of pseudo-random codes (what a renderer hands the stream). */
+static Image *codes_image(int w, int h, int ch, unsigned seed) {
+  Image *img = image_create8(w, h, ch);
+  for (size_t i = 0; i < (size_t)w * h * ch; i++) {
+    seed = seed * 1103515245u + 12345u;
+    img->data8[i] = (uint8_t)(seed >> 16);
+  }
+  return img;
+}
+
+/* Rows handed over in uneven bands make the file image_write makes of the
+** whole image, byte for byte, in every format that streams. */
+TEST(stream_matches_whole_write) {
+  char err[512] = "";
+  const char *ext[] = {"png", "tif", "jpg"};
+  const int cut[] = {0, 5, 6, 30, 37};   /* band edges: 5, 1, 24 and 7 rows */
+  for (int i = 0; i < 3; i++)
+    for (int ch = 1; ch <= 4; ch++) {
+      char a[32], b[32];
+      snprintf(a, sizeof a, "whole%d.%s", ch, ext[i]);
+      snprintf(b, sizeof b, "streamed%d.%s", ch, ext[i]);
+      if (!image_stream_fits(tmp_path(b), ch)) {   /* jpg keeps no alpha */
+        CHECK(i == 2 && ch % 2 == 0);
+        continue;
+      }
+      Image *img = codes_image(29, 37, ch, (unsigned)(7 * i + ch));
+      CHECK(image_write(tmp_path(a), img, err, sizeof err));
+      ImageStream *s = image_stream_open(tmp_path(b), 29, 37, ch, err, sizeof err);
+      CHECK(s != NULL);
+      if (!s) { image_destroy(img); continue; }
+      for (int k = 0; k + 1 < 5; k++)
+        image_stream_rows(s, cut[k], cut[k + 1], img->data8 + (size_t)cut[k] * 29 * ch);
+      CHECK(image_stream_close(s, err, sizeof err));
+      CHECK(file_bytes_equal(tmp_path(a), tmp_path(b)));
+      image_destroy(img);
+    }
+}
+
+/* A stream into a missing folder fails as image_write does; a discarded
+** stream and a closed one leave nothing but the finished file. */
+TEST(stream_leaves_no_temporary) {
+  char err[512] = "", werr[512] = "";
+  Image *img = codes_image(8, 8, 3, 5);
+  CHECK(image_stream_open(tmp_path("nowhere/out.png"), 8, 8, 3, err, sizeof err) == NULL);
+  CHECK(image_write(tmp_path("nowhere/out.png"), img, werr, sizeof werr) == 0);
+  CHECK(strcmp(err, werr) == 0);
+  mkdir(tmp_path("streams"), 0755);
+  ImageStream *s = image_stream_open(tmp_path("streams/gone.png"), 8, 8, 3, err, sizeof err);
+  CHECK(s != NULL);
+  if (s) {
+    image_stream_rows(s, 0, 4, img->data8);
+    image_stream_discard(s);
+  }
+  CHECK_EQ_INT(count_entries(tmp_path("streams")), 0);
+  s = image_stream_open(tmp_path("streams/kept.png"), 8, 8, 3, err, sizeof err);
+  CHECK(s != NULL);
+  if (s) {
+    image_stream_rows(s, 0, 8, img->data8);
+    CHECK(image_stream_close(s, err, sizeof err));
+  }
+  CHECK_EQ_INT(count_entries(tmp_path("streams")), 1);
+  Image *back = NULL;
+  CHECK(image_read(tmp_path("streams/kept.png"), &back, err, sizeof err));
+  CHECK(back && back->width == 8 && back->height == 8);
+  image_destroy(back);
+  image_destroy(img);
+}
+
 /* ---- bad files ------------------------------------------------------------ */
 
 static void write_bytes(const char *p, const void *data, size_t n) {
@@ -589,6 +659,8 @@ int main(void) {
   RUN(aov_exr_channels);
   RUN(ids_tiff_exact);
   RUN(same_image_same_bytes);
+  RUN(stream_matches_whole_write);
+  RUN(stream_leaves_no_temporary);
   RUN(read_missing_file);
   RUN(read_not_an_image);
   RUN(read_corrupt_png);
