@@ -177,6 +177,12 @@ Image *image_create8(int w, int h, int channels) {
   return img;
 }
 
+Image *image_create8_unset(int w, int h, int channels) {
+  Image *img = image_shell(w, h, channels, 4, "image_create8");
+  img->data8 = xmalloc((size_t)w * (size_t)h * (size_t)channels);
+  return img;
+}
+
 void image_destroy(Image *img) {
   if (!img) return;
   free(img->data);

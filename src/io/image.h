@@ -49,6 +49,8 @@ Image *image_create(int w, int h, int channels);
 void image_destroy(Image *img);                /* NULL is fine */
 /* A w x h 8-bit image (channels 1..4), every code 0. */
 Image *image_create8(int w, int h, int channels);
+/* The same with its codes unset, for a caller that writes every one. */
+Image *image_create8_unset(int w, int h, int channels);
 
 /* npix pixels of nc channels (1..4; the last is alpha when nc is 2 or 4)
 ** from linear float to 8-bit codes, exactly as image_write encodes them,
