@@ -80,14 +80,18 @@ void mem_populate(void *p, size_t n) {
 #endif
 }
 
-void *xcalloc_huge(size_t n) {
+void *xmalloc_huge(size_t n) {
   const size_t huge = (size_t)2 << 20;
-  if (n < huge) return xcalloc(1, n);
+  if (n < huge) return xmalloc(n);
   n = (n + huge - 1) & ~(huge - 1);   /* aligned_alloc wants a multiple */
   void *p = aligned_alloc(huge, n);
   if (!p) sumi_fatal("out of memory (asked for %zu bytes)", n);
   mem_advise_huge(p, n);
-  return memset(p, 0, n);
+  return p;
+}
+
+void *xcalloc_huge(size_t n) {
+  return memset(xmalloc_huge(n), 0, n);
 }
 
 /* ---- arena ---------------------------------------------------------- */

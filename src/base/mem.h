@@ -24,8 +24,10 @@ void mem_advise_huge(void *p, size_t n);
 ** be filled whole. A hint: without kernel support nothing happens. */
 void mem_populate(void *p, size_t n);
 
-/* n zeroed bytes for a big table, freed with free(). From 2 MB up the block
-** is aligned to 2 MB and asks for huge pages, as mem_advise_huge. */
+/* n bytes for a big buffer, freed with free(). From 2 MB up the block is
+** aligned to 2 MB and asks for huge pages, as mem_advise_huge. */
+void *xmalloc_huge(size_t n);
+/* The same, zeroed: a big table. */
 void *xcalloc_huge(size_t n);
 
 /* Grow *items (of elem bytes each) so it holds at least need; *cap tracks it. */
