@@ -791,9 +791,9 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeRow *row
     }
     const int32_t *obj = rt->object + i;
     uint8_t *d = &img->data8[at];
-    int k = 0;
-    while (k < n && obj[k] < 0) k++;
-    if (k == n) {
+    uint32_t all = 0xffffffffu;   /* stays all ones when every sample is background (-1) */
+    for (int k = 0; k < n; k++) all &= (uint32_t)obj[k];
+    if (all == 0xffffffffu) {
       memcpy(d, bgrow, (size_t)(n * nc));
       continue;
     }
@@ -845,14 +845,21 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, Sh
   }
 }
 
-/* The farthest depth in rt's rectangle (GBUF_NO_DEPTH where it is empty). */
+/* The farthest depth in rt's rectangle (GBUF_NO_DEPTH where it is empty).
+** Eight running maxima, one per column mod 8, so the comparisons do not
+** wait on each other; the same value as one running maximum. */
 static float tile_far(const RastTarget *rt) {
-  float far = 0;
+  float far[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int n = rt->x1 - rt->x0;
   for (int y = rt->y0; y < rt->y1; y++) {
     const float *d = rt->depth + (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-    for (int x = 0; x < rt->x1 - rt->x0; x++) far = d[x] > far ? d[x] : far;
+    int x = 0;
+    for (; x + 8 <= n; x += 8)
+      for (int k = 0; k < 8; k++) far[k] = d[x + k] > far[k] ? d[x + k] : far[k];
+    for (; x < n; x++) far[0] = d[x] > far[0] ? d[x] : far[0];
   }
-  return far;
+  for (int k = 1; k < 8; k++) far[0] = far[k] > far[0] ? far[k] : far[0];
+  return far[0];
 }
 
 /* Rasterize bin items [i0, i1) into rt, but for those no nearer than far
