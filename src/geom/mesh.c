@@ -58,10 +58,40 @@ static void edge_add_face(MeshEdge *e, int t) {
 }
 
 /* Edges are found through lists by their lower vertex: the edges (a, b)
-** met so far, a handful for each a on a mesh, chained newest first
-** through the edges themselves, so the only extra memory is a link per
-** edge and a head per vertex. Edges are numbered in the order the
-** triangles first name them. */
+** met so far, a handful for each a on a mesh, chained newest first, so the
+** only extra memory is a link per edge and a head per vertex. A walk reads
+** each edge's upper vertex and link side by side, not the edges
+** themselves. Edges are numbered in the order the triangles first name
+** them. */
+typedef struct EdgeLists {
+  int *first;        /* per vertex: newest edge from it, + 1 */
+  int (*link)[2];    /* per edge: upper vertex, edge before it + 1 */
+} EdgeLists;
+
+/* The edge between a and b (-1 if a == b), made if new, with triangle t
+** recorded on it. */
+static inline int edge_of(Mesh *m, EdgeLists *l, int a, int b, int t) {
+  if (a == b) return -1;
+  if (a > b) { int x = a; a = b; b = x; }
+  int e = l->first[a] - 1;
+  while (e >= 0 && l->link[e][0] != b) e = l->link[e][1] - 1;
+  if (e >= 0) {
+    edge_add_face(&m->edges[e], t);
+    return e;
+  }
+  e = m->nedges++;
+  MeshEdge *me = &m->edges[e];
+  me->v[0] = a; me->v[1] = b;
+  me->f[0] = t;
+  me->f[1] = -1;
+  me->sharpness = 0;
+  me->nonmanifold = 0;
+  l->link[e][0] = b;
+  l->link[e][1] = l->first[a];
+  l->first[a] = e + 1;
+  return e;
+}
+
 void mesh_build_edges(Mesh *m) {
   free(m->edges);
   free(m->tri_edges);
@@ -71,31 +101,17 @@ void mesh_build_edges(Mesh *m) {
   mem_populate(m->tri_edges, (size_t)m->ntris * sizeof *m->tri_edges);
   mem_populate(m->edges, cap / 2 * sizeof *m->edges);   /* what a closed mesh uses */
   m->nedges = 0;
-  int *first = xcalloc((size_t)m->nverts + 1, sizeof *first);   /* newest edge from a, + 1 */
-  int *next = xmalloc((cap ? cap : 1) * sizeof *next);          /* the one before it, + 1 */
+  EdgeLists l;
+  l.first = xcalloc((size_t)m->nverts + 1, sizeof *l.first);
+  l.link = xmalloc((cap ? cap : 1) * sizeof *l.link);
   for (int t = 0; t < m->ntris; t++) {
-    for (int k = 0; k < 3; k++) {
-      int a = m->tri[t][k], b = m->tri[t][k < 2 ? k + 1 : 0];
-      if (a == b) { m->tri_edges[t][k] = -1; continue; }
-      if (a > b) { int x = a; a = b; b = x; }
-      int e = first[a] - 1;
-      while (e >= 0 && m->edges[e].v[1] != b) e = next[e] - 1;
-      if (e < 0) {
-        e = m->nedges++;
-        MeshEdge *me = &m->edges[e];
-        me->v[0] = a; me->v[1] = b;
-        me->f[0] = me->f[1] = -1;
-        me->sharpness = 0;
-        me->nonmanifold = 0;
-        next[e] = first[a];
-        first[a] = e + 1;
-      }
-      edge_add_face(&m->edges[e], t);
-      m->tri_edges[t][k] = e;
-    }
+    int a = m->tri[t][0], b = m->tri[t][1], c = m->tri[t][2];
+    m->tri_edges[t][0] = edge_of(m, &l, a, b, t);
+    m->tri_edges[t][1] = edge_of(m, &l, b, c, t);
+    m->tri_edges[t][2] = edge_of(m, &l, c, a, t);
   }
-  free(first);
-  free(next);
+  free(l.first);
+  free(l.link);
   if (m->nedges > 0) m->edges = xrealloc(m->edges, (size_t)m->nedges * sizeof *m->edges);
 }
 
@@ -200,26 +216,30 @@ static int64_t cell_of(const WeldGrid *g, double x, int *side) {
   return (int64_t)c;
 }
 
+/* The hash of a cell's coordinates is the xor of one product per axis. */
+#define WELD_KX 0x9E3779B97F4A7C15ULL
+#define WELD_KY 0xC2B2AE3D27D4EB4FULL
+#define WELD_KZ 0x165667B19E3779F9ULL
+
 static size_t cell_slot(const WeldGrid *g, int64_t x, int64_t y, int64_t z) {
-  uint64_t h = (uint64_t)x * 0x9E3779B97F4A7C15ULL ^ (uint64_t)y * 0xC2B2AE3D27D4EB4FULL ^
-               (uint64_t)z * 0x165667B19E3779F9ULL;
+  uint64_t h = (uint64_t)x * WELD_KX ^ (uint64_t)y * WELD_KY ^ (uint64_t)z * WELD_KZ;
   return (size_t)hash_u64(h) & g->mask;
 }
 
-/* The earlier representative within eps of p, or -1. Different cells may
-** share a slot, which only costs a distance test. */
-static int weld_lookup(const WeldGrid *g, const Vec3 *pos, Vec3 p, double eps2) {
-  int sx, sy, sz;
-  int64_t cx = cell_of(g, p.x, &sx), cy = cell_of(g, p.y, &sy), cz = cell_of(g, p.z, &sz);
-  size_t seen[8];
-  int nseen = 0;
+/* The earlier representative within eps of p, or -1; p lies in cell
+** (cx, cy, cz) and nearer to its neighbours on the sides sx, sy, sz (see
+** cell_of). Different cells may share a slot, which only costs a distance
+** test; a slot met twice is walked twice, to the same end. The axes'
+** products for cell_slot are made once for the 8 cells. */
+static int weld_lookup(const WeldGrid *g, const Vec3 *pos, Vec3 p, double eps2, int64_t cx,
+                       int64_t cy, int64_t cz, int sx, int sy, int sz) {
+  uint64_t hx[2] = {(uint64_t)cx * WELD_KX, (uint64_t)(cx + sx) * WELD_KX};
+  uint64_t hy[2] = {(uint64_t)cy * WELD_KY, (uint64_t)(cy + sy) * WELD_KY};
+  uint64_t hz[2] = {(uint64_t)cz * WELD_KZ, (uint64_t)(cz + sz) * WELD_KZ};
   for (int k = 0; k < 8; k++) {
-    if (((k & 1) && !sx) || ((k & 2) && !sy) || ((k & 4) && !sz)) continue;
-    size_t h = cell_slot(g, cx + (k & 1 ? sx : 0), cy + (k & 2 ? sy : 0), cz + (k & 4 ? sz : 0));
-    int dup = 0;
-    for (int i = 0; i < nseen; i++) dup |= seen[i] == h;
-    if (dup) continue;
-    seen[nseen++] = h;
+    int kx = k & 1, ky = (k >> 1) & 1, kz = k >> 2;
+    if ((kx && !sx) || (ky && !sy) || (kz && !sz)) continue;
+    size_t h = (size_t)hash_u64(hx[kx] ^ hy[ky] ^ hz[kz]) & g->mask;
     for (int r = g->head[h]; r; r = g->next[r - 1]) {
       Vec3 d = v3_sub(pos[r - 1], p);
       if (v3_dot(d, d) <= eps2) return r - 1;
@@ -228,16 +248,28 @@ static int weld_lookup(const WeldGrid *g, const Vec3 *pos, Vec3 p, double eps2) 
   return -1;
 }
 
-static void weld_insert(WeldGrid *g, Vec3 p, int v) {
-  int s;
-  size_t h = cell_slot(g, cell_of(g, p.x, &s), cell_of(g, p.y, &s), cell_of(g, p.z, &s));
-  g->next[v] = g->head[h];
-  g->head[h] = v + 1;
-}
-
 /* Drops the vertices remap sends elsewhere (kept ones keep their order and
-** attributes) and the triangles that lose a corner. */
-static void weld_compact(Mesh *m, const int *remap, int nkept) {
+** attributes) and the triangles that lose a corner. With fill, corner_nrm
+** (allocated for every triangle) gets each kept corner's own normal from
+** before the weld. Triangles go first, while nrm is still as it was. */
+static void weld_compact(Mesh *m, const int *remap, int nkept, int fill) {
+  int nt = 0;
+  for (int t = 0; t < m->ntris; t++) {
+    int o0 = m->tri[t][0], o1 = m->tri[t][1], o2 = m->tri[t][2];
+    int a = remap[o0], b = remap[o1], d = remap[o2];
+    if (a == b || b == d || d == a) continue;
+    if (fill) {
+      Vec3 *cn = m->corner_nrm[nt];
+      cn[0] = m->nrm[o0];
+      cn[1] = m->nrm[o1];
+      cn[2] = m->nrm[o2];
+    } else if (m->corner_nrm && nt != t)   /* nt < t: apart, so a copy (inlined) will do */
+      memcpy(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
+    m->tri[nt][0] = a; m->tri[nt][1] = b; m->tri[nt][2] = d;
+    m->tri_face[nt] = m->tri_face[t];
+    nt++;
+  }
+  m->ntris = nt;
   int seen = 0;
   for (int v = 0; v < m->nverts; v++) {
     if (remap[v] != seen) continue;   /* kept vertices number 0, 1, 2, ... in order */
@@ -247,21 +279,12 @@ static void weld_compact(Mesh *m, const int *remap, int nkept) {
     seen++;
   }
   m->nverts = nkept;
-  int nt = 0;
-  for (int t = 0; t < m->ntris; t++) {
-    int a = remap[m->tri[t][0]], b = remap[m->tri[t][1]], c = remap[m->tri[t][2]];
-    if (a == b || b == c || c == a) continue;
-    m->tri[nt][0] = a; m->tri[nt][1] = b; m->tri[nt][2] = c;
-    m->tri_face[nt] = m->tri_face[t];
-    if (m->corner_nrm && nt != t)   /* nt < t: apart, so a copy (inlined) will do */
-      memcpy(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
-    nt++;
-  }
-  m->ntris = nt;
 }
 
-void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark) {
-  if (m->nverts == 0) return;
+/* The weld's first half: remap[v] is the vertex v becomes (kept ones
+** number 0, 1, 2, ... in order) and rep[v], when rep is not NULL, that
+** vertex's index before the weld; returns how many are kept. */
+static int weld_find(const Mesh *m, double eps, const unsigned char *mark, int *remap, int *rep) {
   if (!(eps > 0)) eps = 0;
   WeldGrid g;
   size_t size = table_size((size_t)m->nverts);
@@ -270,22 +293,73 @@ void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark) {
   g.next = xcalloc((size_t)m->nverts, sizeof *g.next);
   g.inv = eps > 0 ? 0.5 / eps : 0;
   if (!isfinite(g.inv)) g.inv = 0;   /* eps so small it is exact */
-  int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
   int nkept = 0;
   for (int v = 0; v < m->nverts; v++) {
+    int r = v;
     if (!mark || mark[v]) {
-      int r = weld_lookup(&g, m->pos, m->pos[v], eps * eps);
-      if (r >= 0) { remap[v] = remap[r]; continue; }
-      weld_insert(&g, m->pos[v], v);
+      Vec3 p = m->pos[v];
+      int sx, sy, sz;
+      int64_t cx = cell_of(&g, p.x, &sx), cy = cell_of(&g, p.y, &sy), cz = cell_of(&g, p.z, &sz);
+      r = weld_lookup(&g, m->pos, p, eps * eps, cx, cy, cz, sx, sy, sz);
+      if (r < 0) {   /* a new representative */
+        size_t h = cell_slot(&g, cx, cy, cz);
+        g.next[v] = g.head[h];
+        g.head[h] = v + 1;
+        r = v;
+      }
     }
-    remap[v] = nkept++;
+    remap[v] = r == v ? nkept++ : remap[r];
+    if (rep) rep[v] = r;
   }
-  weld_compact(m, remap, nkept);
-  corners_prune(m);
   free(g.head);
   free(g.next);
+  return nkept;
+}
+
+void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark) {
+  if (m->nverts == 0) return;
+  int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
+  int nkept = weld_find(m, eps, mark, remap, NULL);
+  weld_compact(m, remap, nkept, 0);
+  corners_prune(m);
   free(remap);
   if (m->edges) mesh_build_edges(m);
 }
 
 void mesh_weld(Mesh *m, double eps) { mesh_weld_marked(m, eps, NULL); }
+
+/* A corner ends up with its vertex's normal only if that is its own: one
+** test per vertex against its representative's normal (the test
+** corners_differ makes per corner) tells whether any corner can differ,
+** and usually none does, so the per-corner array is never made. */
+void mesh_weld_creased(Mesh *m, double eps, const unsigned char *mark) {
+  free(m->corner_nrm);
+  m->corner_nrm = NULL;
+  if (m->nverts == 0) return;
+  int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
+  int *rep = xmalloc((size_t)m->nverts * sizeof *rep);
+  int nkept = weld_find(m, eps, mark, remap, rep);
+  unsigned char *differs = xmalloc((size_t)m->nverts);
+  int any = 0;
+  for (int v = 0; v < m->nverts; v++) {
+    differs[v] = v3_dot(m->nrm[v], m->nrm[rep[v]]) < 1 - 1e-6;
+    any |= differs[v];
+  }
+  /* only corners of triangles the weld keeps count */
+  int need = 0;
+  for (int t = 0; any && !need && t < m->ntris; t++) {
+    const int *c = m->tri[t];
+    int a = remap[c[0]], b = remap[c[1]], d = remap[c[2]];
+    if (a == b || b == d || d == a) continue;
+    need = differs[c[0]] || differs[c[1]] || differs[c[2]];
+  }
+  if (need) {   /* filled whole */
+    m->corner_nrm = xmalloc((size_t)m->ntris * sizeof *m->corner_nrm);
+    mem_populate(m->corner_nrm, (size_t)m->ntris * sizeof *m->corner_nrm);
+  }
+  weld_compact(m, remap, nkept, need);
+  free(differs);
+  free(rep);
+  free(remap);
+  if (m->edges) mesh_build_edges(m);
+}

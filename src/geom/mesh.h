@@ -67,5 +67,10 @@ void mesh_weld(Mesh *m, double eps);
 /* The same, but only vertices with mark[v] != 0 take part (the rest are
 ** never merged), e.g. the border vertices of tessellated patches. */
 void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark);
+/* mesh_weld_marked keeping creases: the same as setting corner_nrm to
+** each corner's own normal and then welding (any corner_nrm m has is
+** dropped first), only cheaper, as the per-corner array is made only when
+** some corner's own normal differs from its vertex's after the weld. */
+void mesh_weld_creased(Mesh *m, double eps, const unsigned char *mark);
 
 #endif

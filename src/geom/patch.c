@@ -42,44 +42,75 @@ void patch_rows(const ScenePatch *p, double u, PatchRows *rows) {
   }
 }
 
-/* P, dP/du, dP/dv and d2P/dudv at v from the rows at some u; any output
-** but P may be NULL. The rows combine both ways in v. */
-static Vec3 eval_rows(const PatchRows *rows, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
-  double bv[4], wv[4];
-  if (rows->n == 2) bernstein1(v, bv, wv);
-  else bernstein3(v, bv, wv);
-  Vec3 x = {0, 0, 0}, xu = {0, 0, 0}, xv = {0, 0, 0}, xuv = {0, 0, 0};
+void patch_weights(const ScenePatch *p, double v, PatchWeights *w) {
+  if (p->bilinear) bernstein1(v, w->b, w->d);
+  else bernstein3(v, w->b, w->d);
+}
+
+/* r[0] w[0] + r[1] w[1] + r[2] w[2] + r[3] w[3] added in that order to
+** zero (as a loop would: the first add turns -0 into +0). Written out, the
+** x and y lanes go together. */
+static inline Vec3 sum4(const Vec3 r[4], const double w[4]) {
+  Vec3 x = v3_add(v3(0, 0, 0), v3_mul(r[0], w[0]));
+  x = v3_add(x, v3_mul(r[1], w[1]));
+  x = v3_add(x, v3_mul(r[2], w[2]));
+  return v3_add(x, v3_mul(r[3], w[3]));
+}
+
+/* P, dP/du and dP/dv at v from the rows at some u and the weights at v:
+** the rows combine both ways in v. */
+static Vec3 eval_rows(const PatchRows *rows, const PatchWeights *w, Vec3 *du, Vec3 *dv) {
+  if (rows->n == 4) {
+    *du = sum4(rows->ru, w->b);
+    *dv = sum4(rows->r, w->d);
+    return sum4(rows->r, w->b);
+  }
+  Vec3 x = {0, 0, 0}, xu = {0, 0, 0}, xv = {0, 0, 0};
   for (int j = 0; j < rows->n; j++) {
     Vec3 r = rows->r[j], ru = rows->ru[j];
-    x = v3_add(x, v3_mul(r, bv[j]));
-    xu = v3_add(xu, v3_mul(ru, bv[j]));
-    xv = v3_add(xv, v3_mul(r, wv[j]));
-    xuv = v3_add(xuv, v3_mul(ru, wv[j]));
+    x = v3_add(x, v3_mul(r, w->b[j]));
+    xu = v3_add(xu, v3_mul(ru, w->b[j]));
+    xv = v3_add(xv, v3_mul(r, w->d[j]));
   }
-  if (du) *du = xu;
-  if (dv) *dv = xv;
-  if (duv) *duv = xuv;
+  *du = xu;
+  *dv = xv;
   return x;
 }
 
-/* P, dP/du, dP/dv and d2P/dudv at (u, v); any output but P may be NULL.
-** Each row is summed once with the point weights and once with the
-** derivative weights; the rows then combine both ways in v. */
-static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv, Vec3 *duv) {
+/* P, dP/du and dP/dv at (u, v). Each row is summed once with the point
+** weights and once with the derivative weights; the rows then combine
+** both ways in v. */
+static Vec3 eval_full(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv) {
   PatchRows rows;
+  PatchWeights w;
   patch_rows(p, u, &rows);
-  return eval_rows(&rows, v, du, dv, duv);
+  patch_weights(p, v, &w);
+  return eval_rows(&rows, &w, du, dv);
+}
+
+/* d2P/dudv at (u, v), the same way. */
+static Vec3 eval_twist(const ScenePatch *p, double u, double v) {
+  PatchRows rows;
+  PatchWeights w;
+  patch_rows(p, u, &rows);
+  patch_weights(p, v, &w);
+  Vec3 xuv = {0, 0, 0};
+  for (int j = 0; j < rows.n; j++) xuv = v3_add(xuv, v3_mul(rows.ru[j], w.d[j]));
+  return xuv;
 }
 
 Vec3 patch_eval(const ScenePatch *p, double u, double v, Vec3 *du, Vec3 *dv) {
-  return eval_full(p, u, v, du, dv, NULL);
+  Vec3 xu, xv, x = eval_full(p, u, v, &xu, &xv);
+  if (du) *du = xu;
+  if (dv) *dv = xv;
+  return x;
 }
 
-/* True when the cross product n of tangents a and b is too small against
-** the tangents themselves to give a direction (a tangent vanished or the
-** two are parallel). */
-static int degenerate_cross(Vec3 n, Vec3 a, Vec3 b) {
-  double la = v3_len(a), lb = v3_len(b), ln = v3_len(n);
+/* True when the cross product of tangents a and b, of length ln, is too
+** small against the tangents themselves to give a direction (a tangent
+** vanished or the two are parallel). */
+static int degenerate_cross(double ln, Vec3 a, Vec3 b) {
+  double la = v3_len(a), lb = v3_len(b);
   double big = la > lb ? la : lb;
   return !(ln > 1e-10 * big * big) || !isfinite(ln);
 }
@@ -88,48 +119,51 @@ static int degenerate_cross(Vec3 n, Vec3 a, Vec3 b) {
 ** v = v0, then near it dP/du ~ (v - v0) d2P/dudv, so the normal points
 ** along sign(v - v0) d2P/dudv x dP/dv, the sign taken toward the inside. */
 static Vec3 limit_normal(const ScenePatch *p, double u, double v, Vec3 du, Vec3 dv) {
-  Vec3 duv;
-  eval_full(p, u, v, NULL, NULL, &duv);
+  Vec3 duv = eval_twist(p, u, v);
   Vec3 n;
   if (v3_len(du) < v3_len(dv)) n = v3_mul(v3_cross(duv, dv), v < 0.5 ? 1.0 : -1.0);
   else n = v3_mul(v3_cross(du, duv), u < 0.5 ? 1.0 : -1.0);
   return n;
 }
 
-/* The normal from tangents du, dv already evaluated at (u, v). */
+/* The normal from tangents du, dv already evaluated at (u, v). Not
+** degenerate, the cross product's length ln is positive, so n / ln is
+** v3_norm(n) without a second square root. */
 static Vec3 normal_from(const ScenePatch *p, double u, double v, Vec3 du, Vec3 dv) {
   Vec3 n = v3_cross(du, dv);
-  if (!degenerate_cross(n, du, dv)) return v3_norm(n);
+  double ln = v3_len(n);
+  if (!degenerate_cross(ln, du, dv)) return v3_mul(n, 1.0 / ln);
   n = limit_normal(p, u, v, du, dv);
   if (v3_len(n) > 0 && isfinite(v3_len(n))) return v3_norm(n);
   /* Both tangents vanish (a collapsed corner) or the patch folds: step
   ** toward the centre until the tangents span a plane again. */
   for (double step = 1e-6; step <= 0.5; step *= 10) {
     double su = u + (0.5 - u) * step * 2, sv = v + (0.5 - v) * step * 2;
-    eval_full(p, su, sv, &du, &dv, NULL);
+    eval_full(p, su, sv, &du, &dv);
     n = v3_cross(du, dv);
-    if (!degenerate_cross(n, du, dv)) return v3_norm(n);
+    ln = v3_len(n);
+    if (!degenerate_cross(ln, du, dv)) return v3_mul(n, 1.0 / ln);
   }
   return v3(0, 0, 1);
 }
 
 Vec3 patch_normal(const ScenePatch *p, double u, double v) {
   Vec3 du, dv;
-  eval_full(p, u, v, &du, &dv, NULL);
+  eval_full(p, u, v, &du, &dv);
   return normal_from(p, u, v, du, dv);
 }
 
 Vec3 patch_eval_normal(const ScenePatch *p, double u, double v, Vec3 *normal) {
   Vec3 du, dv;
-  Vec3 x = eval_full(p, u, v, &du, &dv, NULL);
+  Vec3 x = eval_full(p, u, v, &du, &dv);
   *normal = normal_from(p, u, v, du, dv);
   return x;
 }
 
-Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, double u, double v,
-                            Vec3 *normal) {
+Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, const PatchWeights *w,
+                            double u, double v, Vec3 *normal) {
   Vec3 du, dv;
-  Vec3 x = eval_rows(rows, v, &du, &dv, NULL);
+  Vec3 x = eval_rows(rows, w, &du, &dv);
   *normal = normal_from(p, u, v, du, dv);
   return x;
 }

@@ -42,10 +42,20 @@ typedef struct PatchRows {
 /* The rows of p at u, for patch_eval_normal_rows. */
 void patch_rows(const ScenePatch *p, double u, PatchRows *rows);
 
-/* patch_eval_normal(p, u, v, normal) from p's rows at u (bit for bit the
-** same). */
-Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, double u, double v,
-                            Vec3 *normal);
+/* The Bernstein weights at one v and their derivatives (cubic, or linear
+** padded with zeros): all that depends on v alone, so a grid's rows share
+** them. */
+typedef struct PatchWeights {
+  double b[4], d[4];
+} PatchWeights;
+
+/* The weights of p at v, for patch_eval_normal_rows. */
+void patch_weights(const ScenePatch *p, double v, PatchWeights *w);
+
+/* patch_eval_normal(p, u, v, normal) from p's rows at u and weights at v
+** (bit for bit the same). */
+Vec3 patch_eval_normal_rows(const ScenePatch *p, const PatchRows *rows, const PatchWeights *w,
+                            double u, double v, Vec3 *normal);
 
 /* The 16 control points of the bicubic patch that represents the bilinear
 ** patch p exactly (degree elevation), into *out (bilinear = 0). */

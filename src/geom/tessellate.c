@@ -69,15 +69,27 @@ static void buf_reserve(TessBuf *b, long long nv, long long nt) {
   }
 }
 
-static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v, int border) {
-  if (b->nv == b->capv) {
+/* Room for need_v vertices and need_t triangles in all: the slow path of
+** buf_vertex and buf_tri, kept apart so theirs stays small and inline. */
+static void buf_grow(TessBuf *b, int need_v, int need_t) {
+  if (need_v > b->capv) {
     int cap = b->capv;
-    b->pos = xgrow(b->pos, &cap, b->nv + 1, sizeof *b->pos);
+    b->pos = xgrow(b->pos, &cap, need_v, sizeof *b->pos);
     b->nrm = xrealloc(b->nrm, (size_t)cap * sizeof *b->nrm);
     b->uv = xrealloc(b->uv, (size_t)cap * sizeof *b->uv);
     b->border = xrealloc(b->border, (size_t)cap);
     b->capv = cap;
   }
+  if (need_t > b->capt) {
+    int cap = b->capt;
+    b->tri = xgrow(b->tri, &cap, need_t, sizeof *b->tri);
+    b->face = xrealloc(b->face, (size_t)cap * sizeof *b->face);
+    b->capt = cap;
+  }
+}
+
+static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v, int border) {
+  if (b->nv == b->capv) buf_grow(b, b->nv + 1, 0);
   b->pos[b->nv] = p;
   b->nrm[b->nv] = n;
   b->uv[b->nv].x = u;
@@ -87,12 +99,7 @@ static int buf_vertex(TessBuf *b, Vec3 p, Vec3 n, double u, double v, int border
 }
 
 static void buf_tri(TessBuf *b, int a, int c1, int c2, int face) {
-  if (b->nt == b->capt) {
-    int cap = b->capt;
-    b->tri = xgrow(b->tri, &cap, b->nt + 1, sizeof *b->tri);
-    b->face = xrealloc(b->face, (size_t)cap * sizeof *b->face);
-    b->capt = cap;
-  }
+  if (b->nt == b->capt) buf_grow(b, 0, b->nt + 1);
   b->tri[b->nt][0] = a;
   b->tri[b->nt][1] = c1;
   b->tri[b->nt][2] = c2;
@@ -267,40 +274,58 @@ typedef struct PatchCut {
   int nu, nv;
 } PatchCut;
 
+/* A patch being cut. Its columns' rows and its grid lines' weights are
+** evaluated once (patch.h): the inner points and the border normals at the
+** grid's parameters share them. */
 typedef struct PatchWork {
   TessBuf *b;
   const ScenePatch *p;
   int face;
   int *border[4];     /* vertex indices along each border, patch direction */
   int *grid;          /* (nu + 1) x (nv + 1), only where used */
+  PatchRows *rows;    /* at u = i / nu, i = 0..nu */
+  PatchWeights *wts;  /* at v = j / nv, j = 0..nv */
 } PatchWork;
 
-/* A vertex on the border at (u, v), its position pos from the curve. */
-static int border_vertex(PatchWork *w, Vec3 pos, double u, double v) {
-  return buf_vertex(w->b, pos, patch_normal(w->p, u, v), u, v, 1);
-}
-
-/* A vertex inside at (u, v), from the patch's rows at u. */
-static int inner_vertex(PatchWork *w, const PatchRows *rows, double u, double v) {
-  Vec3 n, pos = patch_eval_normal_rows(w->p, rows, u, v, &n);
-  return buf_vertex(w->b, pos, n, u, v, 0);
+/* A vertex on the border at (u, v), its position pos from the curve and its
+** normal from rows at u and weights at v. */
+static int border_vertex(PatchWork *w, Vec3 pos, const PatchRows *rows, const PatchWeights *wts,
+                         double u, double v) {
+  Vec3 n;
+  patch_eval_normal_rows(w->p, rows, wts, u, v, &n);
+  return buf_vertex(w->b, pos, n, u, v, 1);
 }
 
 /* The e + 1 vertices of border k, corners included, the inner points from
-** the canonical curve so a neighbour makes the same ones. */
-static void make_border(PatchWork *w, int k, int e, const int corner[4]) {
+** the canonical curve so a neighbour makes the same ones. Where e is the
+** grid's count along the border, its points sit on the grid's lines and
+** take their rows or weights; elsewhere they are evaluated here. */
+static void make_border(PatchWork *w, const PatchCut *c, int k, const int corner[4]) {
   static const int first[4] = {0, 1, 3, 0}, last[4] = {1, 2, 2, 3};  /* corners 00 10 11 01 */
-  Vec3 c[4];
-  border_points(w->p, k, c);
-  int rev = canonical_border(c);
+  int e = c->e[k], along_u = k == 0 || k == 2;
+  int on_grid = e == (along_u ? c->nu : c->nv);
+  /* what the border's points share: the rows at u = 0 or 1, or the
+  ** weights at v = 0 or 1 */
+  const PatchRows *side_rows = &w->rows[k == 1 ? c->nu : 0];
+  const PatchWeights *side_wts = &w->wts[k == 2 ? c->nv : 0];
+  Vec3 cp[4];
+  border_points(w->p, k, cp);
+  int rev = canonical_border(cp);
   int *idx = xmalloc((size_t)(e + 1) * sizeof *idx);
   idx[0] = corner[first[k]];
   idx[e] = corner[last[k]];
   for (int s = 1; s < e; s++) {
     double t = (double)s / e;            /* patch direction */
-    Vec3 pos = cubic_point(c, rev ? (double)(e - s) / e : t);
-    double u = k == 1 ? 1 : k == 3 ? 0 : t, v = k == 0 ? 0 : k == 2 ? 1 : t;
-    idx[s] = border_vertex(w, pos, u, v);
+    Vec3 pos = cubic_point(cp, rev ? (double)(e - s) / e : t);
+    if (along_u) {
+      PatchRows own;
+      if (!on_grid) patch_rows(w->p, t, &own);
+      idx[s] = border_vertex(w, pos, on_grid ? &w->rows[s] : &own, side_wts, t, k == 0 ? 0 : 1);
+    } else {
+      PatchWeights own;
+      if (!on_grid) patch_weights(w->p, t, &own);
+      idx[s] = border_vertex(w, pos, side_rows, on_grid ? &w->wts[s] : &own, k == 1 ? 1 : 0, t);
+    }
   }
   w->border[k] = idx;
 }
@@ -308,41 +333,50 @@ static void make_border(PatchWork *w, int k, int e, const int corner[4]) {
 /* Where grid vertex (i, j) of an nu x nv grid is kept in PatchWork.grid. */
 static int grid_index(const PatchCut *c, int i, int j) { return j * (c->nu + 1) + i; }
 
-/* The grid's vertices: all of them when full (the borders' counts match
-** the grid, and its outer ring is the borders' vertices), else only the
-** inner ones, (1..nu-1) x (1..nv-1), all evaluated. */
+/* The grid's vertices: the inner ones, (1..nu-1) x (1..nv-1), evaluated
+** row by row, and when full (the borders' counts match the grid) the outer
+** ring too, which is the borders' vertices. */
 static void make_grid(PatchWork *w, const PatchCut *c, int full) {
-  int lo = full ? 0 : 1, hiu = full ? c->nu : c->nu - 1, hiv = full ? c->nv : c->nv - 1;
-  w->grid = xmalloc((size_t)(c->nu + 1) * (size_t)(c->nv + 1) * sizeof *w->grid);
-  /* each column's rows once, not once per vertex: the inner points are
-  ** most of the work */
-  PatchRows *rows = xmalloc((size_t)(c->nu + 1) * sizeof *rows);
-  for (int i = 1; i < c->nu; i++) patch_rows(w->p, (double)i / c->nu, &rows[i]);
-  for (int j = lo; j <= hiv; j++)
-    for (int i = lo; i <= hiu; i++) {
-      int *g = &w->grid[grid_index(c, i, j)];
-      if (j == 0) *g = w->border[0][i];
-      else if (j == c->nv) *g = w->border[2][i];
-      else if (i == 0) *g = w->border[3][j];
-      else if (i == c->nu) *g = w->border[1][j];
-      else {
-        double u = (double)i / c->nu, v = (double)j / c->nv;
-        *g = inner_vertex(w, &rows[i], u, v);
-      }
+  int nu = c->nu, nv = c->nv;
+  w->grid = xmalloc((size_t)(nu + 1) * (size_t)(nv + 1) * sizeof *w->grid);
+  for (int j = 1; j < nv; j++) {
+    double v = (double)j / nv;
+    int *g = &w->grid[grid_index(c, 0, j)];
+    for (int i = 1; i < nu; i++) {
+      double u = (double)i / nu;
+      Vec3 n, pos = patch_eval_normal_rows(w->p, &w->rows[i], &w->wts[j], u, v, &n);
+      g[i] = buf_vertex(w->b, pos, n, u, v, 0);
     }
-  free(rows);
+  }
+  if (!full) return;
+  for (int i = 0; i <= nu; i++) {
+    w->grid[grid_index(c, i, 0)] = w->border[0][i];
+    w->grid[grid_index(c, i, nv)] = w->border[2][i];
+  }
+  for (int j = 1; j < nv; j++) {
+    w->grid[grid_index(c, 0, j)] = w->border[3][j];
+    w->grid[grid_index(c, nu, j)] = w->border[1][j];
+  }
 }
 
 /* Two triangles per cell over cells [i0, i1) x [j0, j1), counter-clockwise
 ** in (u, v). */
 static void emit_cells(PatchWork *w, const PatchCut *c, int i0, int i1, int j0, int j1) {
-  for (int j = j0; j < j1; j++)
+  TessBuf *b = w->b;
+  buf_grow(b, 0, b->nt + 2 * (i1 - i0) * (j1 - j0));   /* then written straight */
+  int (*t)[3] = &b->tri[b->nt], *f = &b->face[b->nt];
+  for (int j = j0; j < j1; j++) {
+    const int *g0 = &w->grid[grid_index(c, 0, j)], *g1 = &w->grid[grid_index(c, 0, j + 1)];
     for (int i = i0; i < i1; i++) {
-      int a = w->grid[grid_index(c, i, j)], b = w->grid[grid_index(c, i + 1, j)];
-      int d = w->grid[grid_index(c, i, j + 1)], e = w->grid[grid_index(c, i + 1, j + 1)];
-      buf_tri(w->b, a, b, e, w->face);
-      buf_tri(w->b, a, e, d, w->face);
+      int a = g0[i], e = g1[i + 1];
+      t[0][0] = a; t[0][1] = g0[i + 1]; t[0][2] = e;
+      t[1][0] = a; t[1][1] = e; t[1][2] = g1[i];
+      f[0] = f[1] = w->face;
+      t += 2;
+      f += 2;
     }
+  }
+  b->nt = (int)(t - b->tri);
 }
 
 /* Zips an outer polyline o (params so, no + 1 points) to an inner one q
@@ -409,24 +443,35 @@ static void cut_size(PatchCut c, long long *nv, long long *nt) {
 
 /* Cuts patch p (cubic) as c says into b. */
 static void cut_patch(TessBuf *b, const ScenePatch *p, int face, PatchCut c) {
-  PatchWork w = {b, p, face, {NULL, NULL, NULL, NULL}, NULL};
-  int corner[4] = {
-    border_vertex(&w, p->cp[0], 0, 0), border_vertex(&w, p->cp[3], 1, 0),
-    border_vertex(&w, p->cp[15], 1, 1), border_vertex(&w, p->cp[12], 0, 1),
-  };
-  for (int k = 0; k < 4; k++) make_border(&w, k, c.e[k], corner);
-  if (cut_is_grid(&c)) {
-    make_grid(&w, &c, 1);
-    emit_cells(&w, &c, 0, c.nu, 0, c.nv);
-  } else {
+  int full = cut_is_grid(&c);
+  if (!full) {
     if (c.nu < 2) c.nu = 2;
     if (c.nv < 2) c.nv = 2;
-    make_grid(&w, &c, 0);
+  }
+  PatchWork w = {b, p, face, {NULL, NULL, NULL, NULL}, NULL, NULL, NULL};
+  w.rows = xmalloc((size_t)(c.nu + 1) * sizeof *w.rows);
+  w.wts = xmalloc((size_t)(c.nv + 1) * sizeof *w.wts);
+  for (int i = 0; i <= c.nu; i++) patch_rows(p, (double)i / c.nu, &w.rows[i]);
+  for (int j = 0; j <= c.nv; j++) patch_weights(p, (double)j / c.nv, &w.wts[j]);
+  const PatchRows *r0 = &w.rows[0], *r1 = &w.rows[c.nu];
+  const PatchWeights *w0 = &w.wts[0], *w1 = &w.wts[c.nv];
+  int corner[4];   /* one statement each: made in this order */
+  corner[0] = border_vertex(&w, p->cp[0], r0, w0, 0, 0);
+  corner[1] = border_vertex(&w, p->cp[3], r1, w0, 1, 0);
+  corner[2] = border_vertex(&w, p->cp[15], r1, w1, 1, 1);
+  corner[3] = border_vertex(&w, p->cp[12], r0, w1, 0, 1);
+  for (int k = 0; k < 4; k++) make_border(&w, &c, k, corner);
+  make_grid(&w, &c, full);
+  if (full) {
+    emit_cells(&w, &c, 0, c.nu, 0, c.nv);
+  } else {
     emit_cells(&w, &c, 1, c.nu - 1, 1, c.nv - 1);
     for (int k = 0; k < 4; k++) stitch_border(&w, &c, k);
   }
   for (int k = 0; k < 4; k++) free(w.border[k]);
   free(w.grid);
+  free(w.rows);
+  free(w.wts);
 }
 
 /* ---- whole geometries ---------------------------------------------------- */
@@ -458,12 +503,8 @@ static Mesh *finish_patches(const SceneGeometry *g, TessBuf *b) {
   b->border = NULL;
   Mesh *m = buf_to_mesh(b, 1);
   /* each corner keeps its own patch's normal where a weld joins patches
-  ** that meet at an angle (the weld drops it again if none do) */
-  m->corner_nrm = xmalloc((size_t)(m->ntris > 0 ? m->ntris : 1) * sizeof *m->corner_nrm);
-  mem_populate(m->corner_nrm, (size_t)m->ntris * sizeof *m->corner_nrm);   /* filled whole */
-  for (int t = 0; t < m->ntris; t++)
-    for (int k = 0; k < 3; k++) m->corner_nrm[t][k] = m->nrm[m->tri[t][k]];
-  mesh_weld_marked(m, TESS_WELD_REL * control_extent(g), border);
+  ** that meet at an angle (corner_nrm stays NULL if none do) */
+  mesh_weld_creased(m, TESS_WELD_REL * control_extent(g), border);
   free(border);
   mesh_build_edges(m);
   return m;
