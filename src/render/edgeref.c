@@ -71,8 +71,14 @@ static void append_tri(TriList *l, const float *p, double ymin, double ymax, int
   t->off = (float)(factor * (fabs(dndx) + fabs(dndy))) + LINE_DEPTH_EPS;
   t->obj = obj;
   t->tri = tri;
-  t->ymin = (int)fmax(0, floor(ymin));
-  t->ymax = (int)fmin(h - 1, ceil(ymax));
+  /* (int)fmax(0, floor(ymin)) and (int)fmin(h - 1, ceil(ymax)) without the
+  ** calls: the callers have ymin <= h and ymax >= 0 (or NaN) */
+  t->ymin = ymin > 0 ? (int)ymin : 0;
+  t->ymax = h - 1;
+  if (ymax < h - 1) {
+    t->ymax = (int)ymax;
+    if (t->ymax < ymax) t->ymax++;
+  }
 }
 
 /* Append the triangle p (as append_tri) if it has area and reaches a tile
@@ -210,14 +216,15 @@ static unsigned run_pixels(const RefTarget *rt, int b, int y, int xa, int xb) {
   return bits;
 }
 
-/* Pixels [xa, xb] of row y, all in tile block b, take t's nearness (n0 at
-** xa, dndx a pixel) where it is nearer; only those of bits (run_pixels). */
+/* Pixels of row y from xa on, all in tile block b, take t's nearness (n0
+** at xa, dndx a pixel) where it is nearer; only those of bits (run_pixels). */
 static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int b, int y, int xa,
-                       int xb, unsigned bits, double n0, double dndx) {
+                       unsigned bits, double n0, double dndx) {
   const LineRef *ref = rt->ref;
   size_t base = (size_t)b * LINE_REF_TILE_PX + ((size_t)(y & (LINE_REF_TILE - 1)) << LINE_REF_TILE_BITS);
-  for (int x = xa; x <= xb; x++) {
-    if (!(bits >> (x & (LINE_REF_TILE - 1)) & 1)) continue;
+  int x = xa;   /* up to the last pixel of bits */
+  for (unsigned m = bits >> (xa & (LINE_REF_TILE - 1)); m; m >>= 1, x++) {
+    if (!(m & 1)) continue;
     float nf = (float)(n0 + dndx * (x - xa));
     size_t i = base + (x & (LINE_REF_TILE - 1));
     if (nf > ref->near[i]) {
@@ -231,46 +238,47 @@ static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int 
 /* The sides of a triangle as bounds on the pixel centres px of the row at
 ** py. Side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; it
 ** bounds px from below (a > 0) or above (a < 0) at m * py + q, and a
-** horizontal side (a = 0) empties the rows where b * py + c < 0. Each side
-** fills one of its three slots; the other two hold a bound that never
-** binds (0 * py -/+ infinity, or 0), so a row takes the max and min over
-** all three sides with no branch on which kind each is. */
+** horizontal side (a = 0, or NaN) empties the rows where b * py + c < 0.
+** The sign of a is that of y[e] - y[e + 1] (times sgn), and the three
+** differences of a cycle cannot all have one sign, so at most two sides
+** bound from below and at most two from above. Those lists, in side order,
+** are padded with a bound that never binds (0 * py -/+ infinity), so a row
+** takes the max and min over two of each with no branch on the kinds. */
 typedef struct TriSides {
-  double lm[3], lq[3];   /* lower bounds: px >= lm * py + lq */
-  double um[3], uq[3];   /* upper bounds: px <= um * py + uq */
+  double lm[2], lq[2];   /* lower bounds: px >= lm * py + lq */
+  double um[2], uq[2];   /* upper bounds: px <= um * py + uq */
   double hm[3], hq[3];   /* horizontal: the row is empty if hm * py + hq < 0 */
-  int flat;              /* some side is horizontal */
+  int nflat;             /* horizontal sides */
 } TriSides;
 
 static void tri_sides(const ScreenTri *t, double sgn, TriSides *s) {
-  s->flat = 0;
+  int nl = 0, nu = 0, nh = 0;
   for (int e = 0; e < 3; e++) {
-    int e1 = (e + 1) % 3;
+    int e1 = e == 2 ? 0 : e + 1;
     double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
     double a = -sgn * ey, b = sgn * ex, c = sgn * (ey * t->x[e] - ex * t->y[e]);
-    s->lm[e] = s->um[e] = s->hm[e] = s->hq[e] = 0;
-    s->lq[e] = -INFINITY;
-    s->uq[e] = INFINITY;
-    if (a > 0) { s->lm[e] = -b / a; s->lq[e] = -c / a; }
-    else if (a < 0) { s->um[e] = -b / a; s->uq[e] = -c / a; }
-    else { s->hm[e] = b; s->hq[e] = c; s->flat = 1; }
+    if (a > 0) { s->lm[nl] = -b / a; s->lq[nl++] = -c / a; }
+    else if (a < 0) { s->um[nu] = -b / a; s->uq[nu++] = -c / a; }
+    else { s->hm[nh] = b; s->hq[nh++] = c; }
   }
+  for (; nl < 2; nl++) { s->lm[nl] = 0; s->lq[nl] = -INFINITY; }
+  for (; nu < 2; nu++) { s->um[nu] = 0; s->uq[nu] = INFINITY; }
+  s->nflat = nh;
 }
 
 /* Narrow [*lo, *hi] to the pixel centres of the row at py inside the
 ** triangle; 0 when none are. */
 static inline int tri_row(const TriSides *s, double py, double *lo, double *hi) {
   double l = *lo, h = *hi;
-  for (int e = 0; e < 3; e++) {
+  for (int e = 0; e < 2; e++) {
     double le = s->lm[e] * py + s->lq[e], he = s->um[e] * py + s->uq[e];
     l = le > l ? le : l;
     h = he < h ? he : h;
   }
   *lo = l;
   *hi = h;
-  if (s->flat)
-    for (int e = 0; e < 3; e++)
-      if (s->hm[e] * py + s->hq[e] < 0) return 0;
+  for (int e = 0; e < s->nflat; e++)
+    if (s->hm[e] * py + s->hq[e] < 0) return 0;
   return l <= h;
 }
 
@@ -286,17 +294,17 @@ static int centre_columns(double lo, double hi, int xhi, int *xa, int *xb) {
 }
 
 /* Which rows of [ra, rb], all in one tile row, need the row raster of
-** sides s: rows[y & (LINE_REF_TILE - 1)] nonzero; 0 when none do. Rounding
-** is monotone, so over those rows each side's bound lies between its values
-** at the first and the last row (a side that is NaN at either end may be
-** anything between; it bounds nothing here). That gives the columns any of
+** sides s: byte y & (LINE_REF_TILE - 1) of the result nonzero; 0 when none
+** do. Rounding is monotone, so over those rows each side's bound lies
+** between its values at the first and the last row (a side that is NaN at
+** either end may be anything between; it bounds nothing here). That gives the columns any of
 ** the rows can reach; a row needs the raster only when it has a pixel to
 ** write (run_pixels) in a tile of those columns. */
-static int reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb, uint8_t rows[LINE_REF_TILE]) {
+static uint64_t reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb) {
   const LineRef *ref = rt->ref;
   int xhi = ref->width - 1;
   double pa = ra + 0.5, pb = rb + 0.5, lo = 0.5, hi = xhi + 0.5;
-  for (int e = 0; e < 3; e++) {
+  for (int e = 0; e < 2; e++) {
     double la = s->lm[e] * pa + s->lq[e], lb = s->lm[e] * pb + s->lq[e];
     double ua = s->um[e] * pa + s->uq[e], ub = s->um[e] * pb + s->uq[e];
     if (!isnan(la) && !isnan(lb)) {
@@ -323,8 +331,7 @@ static int reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb, ui
     uint64_t cols = (0xFFu << ca) & (0xFFu >> (LINE_REF_TILE - 1 - cb));
     any |= m & cols * 0x0101010101010101u;
   }
-  memcpy(rows, &any, LINE_REF_TILE);
-  return any != 0;
+  return any;
 }
 
 /* Row y of t (number k in its list, sides s, nearness slopes dndx, dndy):
@@ -338,7 +345,8 @@ static void raster_row(const ScreenTri *t, uint32_t k, const RefTarget *rt, cons
   double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
   int xa, xb;
   if (!tri_row(s, py, &lo, &hi) || !centre_columns(lo, hi, xhi, &xa, &xb)) return;
-  double n0 = t->n[0] + dndx * (xa + 0.5 - (double)t->x[0]) + dndy * (py - (double)t->y[0]);
+  double n0 = 0;
+  int have_n0 = 0;   /* most rows write nothing: their nearness is never needed */
   const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
   for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
     int b = tiles[tx];
@@ -347,7 +355,12 @@ static void raster_row(const ScreenTri *t, uint32_t k, const RefTarget *rt, cons
     if (ta < xa) ta = xa;
     if (tb > xb) tb = xb;
     unsigned bits = run_pixels(rt, b, y, ta, tb);
-    if (bits) raster_run(t, k, rt, b, y, ta, tb, bits, n0 + dndx * (ta - xa), dndx);
+    if (!bits) continue;
+    if (!have_n0) {
+      n0 = t->n[0] + dndx * (xa + 0.5 - (double)t->x[0]) + dndy * (py - (double)t->y[0]);
+      have_n0 = 1;
+    }
+    raster_run(t, k, rt, b, y, ta, bits, n0 + dndx * (ta - xa), dndx);
   }
 }
 
@@ -366,10 +379,12 @@ static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int 
   for (int ra = ya; ra <= yb; ra = (ra | (LINE_REF_TILE - 1)) + 1) {
     int rb = ra | (LINE_REF_TILE - 1);
     if (rb > yb) rb = yb;
-    uint8_t rows[LINE_REF_TILE];
-    if (!reach_rows(&sides, rt, ra, rb, rows)) continue;
-    for (int y = ra; y <= rb; y++)
-      if (rows[y & (LINE_REF_TILE - 1)]) raster_row(t, k, rt, &sides, dndx, dndy, y);
+    uint64_t rows = reach_rows(&sides, rt, ra, rb);
+    for (int y = ra; y <= rb; y++) {
+      uint64_t r = rows >> (y & (LINE_REF_TILE - 1)) * 8;   /* this row's byte and those below */
+      if (!r) break;
+      if (r & 0xFF) raster_row(t, k, rt, &sides, dndx, dndy, y);
+    }
   }
 }
 
@@ -472,9 +487,10 @@ static void draw_span(const RefJob *j, const LineSpan *s, uint32_t id, int *coun
   LineRef *ref = j->ref;
   const EdgeInfo *e = &j->info[id - 1];
   float dn = s->nsteps > 1 ? (s->n1 - s->n0) / (float)(s->nsteps - 1) : 0;
-  for (int i = 0; i < s->nsteps; i++) {
-    int x, y;
-    line_span_step(s, i, &x, &y);
+  LineSpanWalk w;
+  line_span_walk_start(&w, s);
+  for (int i = 0; i < s->nsteps; i++, line_span_walk_next(&w)) {
+    int x = w.x, y = w.y;
     if (y < y0 || y >= y1) continue;
     long at = line_ref_at(ref, x, y);   /* always stored: the walk made the tile */
     if (at < 0) continue;
@@ -539,22 +555,23 @@ static EdgeInfo *edge_info(const LineEdges *edges) {
 static void edge_tiles(LineRef *ref, int **sat) {
   int tw = ref->tw, th = ref->th;
   for (int i = 0; i < ref->nids; i++) {
-    const LineSpan *s = &ref->span[i];
-    for (int k = 0; k < s->nsteps; k++) {
-      int x, y;
-      line_span_step(s, k, &x, &y);
-      ref->tile[(y >> LINE_REF_TILE_BITS) * tw + (x >> LINE_REF_TILE_BITS)] = 0;
-    }
+    LineSpanWalk w;
+    line_span_walk_start(&w, &ref->span[i]);
+    for (int k = 0; k < ref->span[i].nsteps; k++, line_span_walk_next(&w))
+      ref->tile[(w.y >> LINE_REF_TILE_BITS) * tw + (w.x >> LINE_REF_TILE_BITS)] = 0;
   }
   int W = tw + 1;
   *sat = xcalloc((size_t)W * (th + 1), sizeof **sat);
-  for (int ty = 0; ty < th; ty++)
+  for (int ty = 0; ty < th; ty++) {
+    int run = 0;   /* tiles with storage in this row so far */
     for (int tx = 0; tx < tw; tx++) {
       int *t = &ref->tile[ty * tw + tx];
       int on = *t == 0;
       *t = on ? ref->nblocks++ : -1;
-      (*sat)[(ty + 1) * W + tx + 1] = on + (*sat)[ty * W + tx + 1] + (*sat)[(ty + 1) * W + tx] - (*sat)[ty * W + tx];
+      run += on;
+      (*sat)[(ty + 1) * W + tx + 1] = (*sat)[ty * W + tx + 1] + run;
     }
+  }
 }
 
 /* Per row of each block of ref, the pixels the walks of its spans visit
@@ -562,12 +579,11 @@ static void edge_tiles(LineRef *ref, int **sat) {
 static uint8_t *walk_masks(const LineRef *ref) {
   uint8_t *walk = xcalloc((size_t)ref->nblocks * LINE_REF_TILE + 1, 1);
   for (int i = 0; i < ref->nids; i++) {
-    const LineSpan *s = &ref->span[i];
-    for (int k = 0; k < s->nsteps; k++) {
-      int x, y;
-      line_span_step(s, k, &x, &y);
-      int b = ref->tile[(y >> LINE_REF_TILE_BITS) * ref->tw + (x >> LINE_REF_TILE_BITS)];
-      walk[(size_t)b * LINE_REF_TILE + (y & (LINE_REF_TILE - 1))] |= (uint8_t)(1u << (x & (LINE_REF_TILE - 1)));
+    LineSpanWalk w;
+    line_span_walk_start(&w, &ref->span[i]);
+    for (int k = 0; k < ref->span[i].nsteps; k++, line_span_walk_next(&w)) {
+      int b = ref->tile[(w.y >> LINE_REF_TILE_BITS) * ref->tw + (w.x >> LINE_REF_TILE_BITS)];
+      walk[(size_t)b * LINE_REF_TILE + (w.y & (LINE_REF_TILE - 1))] |= (uint8_t)(1u << (w.x & (LINE_REF_TILE - 1)));
     }
   }
   return walk;

@@ -80,8 +80,9 @@ void line_ref_free(LineRef *ref);
 
 /* The pixel of step i (0 <= i < s->nsteps) of the walk along s: a
 ** Bresenham line from (px0, py0) to (px1, py1), stepping one pixel along
-** the dominant axis each time. Drawing and tracing share it, so they visit
-** the same pixels. */
+** the dominant axis each time. Tracing calls it; drawing steps through the
+** same pixels in order without its division (LineSpanWalk below), so both
+** visit the same pixels. */
 static inline void line_span_step(const LineSpan *s, int i, int *x, int *y) {
   int dx = s->px1 - s->px0, dy = s->py1 - s->py0;
   int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
@@ -93,6 +94,48 @@ static inline void line_span_step(const LineSpan *s, int i, int *x, int *y) {
     *y = s->py0 + (dy < 0 ? -i : i);
     int off = (int)((2LL * i * ax + ay) / (2LL * ay));
     *x = s->px0 + (dx < 0 ? -off : off);
+  }
+}
+
+/* Walking a span: the pixels line_span_step gives for i = 0, 1, ..., one
+** after the other, with Bresenham's error term in place of its division.
+** The offset along the minor axis at step i is floor((2 i minor + major) /
+** (2 major)); err is that numerator less 2 major per unit of offset so far,
+** so it stays in [0, 2 major) and a step adds at most one unit.
+**
+**   LineSpanWalk w;
+**   line_span_walk_start(&w, s);
+**   for (int i = 0; i < s->nsteps; i++, line_span_walk_next(&w)) ... w.x, w.y ... */
+typedef struct LineSpanWalk {
+  int x, y, sx, sy;
+  int xmajor;           /* x is the dominant axis */
+  int major2, minor2;   /* twice the steps along each axis */
+  int err;
+} LineSpanWalk;
+
+static inline void line_span_walk_start(LineSpanWalk *w, const LineSpan *s) {
+  int dx = s->px1 - s->px0, dy = s->py1 - s->py0;
+  int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+  w->x = s->px0;
+  w->y = s->py0;
+  w->sx = dx < 0 ? -1 : 1;
+  w->sy = dy < 0 ? -1 : 1;
+  w->xmajor = ax >= ay;
+  w->major2 = 2 * (w->xmajor ? ax : ay);
+  w->minor2 = 2 * (w->xmajor ? ay : ax);
+  w->err = w->major2 / 2;
+}
+
+static inline void line_span_walk_next(LineSpanWalk *w) {
+  w->err += w->minor2;
+  int up = w->err >= w->major2;
+  if (up) w->err -= w->major2;
+  if (w->xmajor) {
+    w->x += w->sx;
+    if (up) w->y += w->sy;
+  } else {
+    w->y += w->sy;
+    if (up) w->x += w->sx;
   }
 }
 

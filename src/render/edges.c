@@ -15,12 +15,14 @@
 /* ---- classification ---------------------------------------------------- */
 
 /* What classifying one object's edges needs besides the edge: its
-** triangles' source faces, world positions and unit face normals, the
-** kinds wanted, the crease test as n0 . n1 <= crease_cos, and the view
-** vector: forward (ortho) or from eye to the edge's v[0]. */
+** triangles' source faces, world positions and unit face normals (and
+** which normals are zero, when known), the kinds wanted, the crease test
+** as n0 . n1 <= crease_cos, and the view vector: forward (ortho) or from
+** eye to the edge's v[0]. */
 typedef struct EdgeTest {
   const int *tri_face;
   const Vec3 *world, *fn;
+  const unsigned char *zero;   /* per triangle: fn . fn == 0 (a degenerate face), or NULL */
   unsigned want;
   double crease_cos;
   int ortho;
@@ -42,7 +44,7 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
   if ((want & EDGE_FACE) && (!tri_face || tri_face[f0] != tri_face[f1]))
     kind |= EDGE_FACE;
   Vec3 n0 = fn[f0], n1 = fn[f1];
-  int degenerate = v3_dot(n0, n0) == 0 || v3_dot(n1, n1) == 0;
+  int degenerate = et->zero ? et->zero[f0] | et->zero[f1] : v3_dot(n0, n0) == 0 || v3_dot(n1, n1) == 0;
   if (want & EDGE_CREASE) {
     if (me->sharpness > 0) kind |= EDGE_CREASE;   /* tagged by subdivision */
     /* angle(n0, n1) >= threshold  <=>  n0 . n1 <= cos(threshold) */
@@ -61,7 +63,7 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
 
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam) {
-  EdgeTest et = {m->tri_face, world, fn, ls->kinds, cos(ls->crease_angle * M_PI / 180.0),
+  EdgeTest et = {m->tri_face, world, fn, NULL, ls->kinds, cos(ls->crease_angle * M_PI / 180.0),
                  cam->kind == CAMERA_ORTHO, cam->forward, cam->eye};
   return edge_kind_at(&m->edges[e], &et);
 }
@@ -126,10 +128,12 @@ static int outside_view(const LineObjEdges *oe, int nverts) {
 ** gathers. */
 #define EDGE_AHEAD 32
 
-/* Unit world normals of m's triangles (zero for a degenerate one), and
-** which of them the viewer sees the front of (v . n < 0), in one pass. */
-static void face_normals(Vec3 *fn, unsigned char *front, const Mesh *m, const Vec3 *world,
-                         const Camera *cam) {
+/* Unit world normals of m's triangles (zero for a degenerate one), which
+** of them are zero (so classifying an edge need not test both of its
+** faces' normals again), and which of them the viewer sees the front of
+** (v . n < 0), in one pass. */
+static void face_normals(Vec3 *fn, unsigned char *zero, unsigned char *front, const Mesh *m,
+                         const Vec3 *world, const Camera *cam) {
   int ortho = cam->kind == CAMERA_ORTHO;
   Vec3 fwd = cam->forward, eye = cam->eye;
   for (int t = 0; t < m->ntris; t++) {
@@ -137,6 +141,7 @@ static void face_normals(Vec3 *fn, unsigned char *front, const Mesh *m, const Ve
     Vec3 p0 = world[c[0]];
     Vec3 n = v3_norm(v3_cross(v3_sub(world[c[1]], p0), v3_sub(world[c[2]], p0)));
     fn[t] = n;
+    zero[t] = v3_dot(n, n) == 0;
     Vec3 v = ortho ? fwd : v3_sub(p0, eye);
     front[t] = v3_dot(v, n) < 0;
   }
@@ -167,11 +172,12 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     LineObjEdges *oe = &out->obj[i];
     oe->mesh = m;
     oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
-    /* scratch, every entry written before it is read: world positions and
-    ** face normals (from the heap, which keeps the earlier stages' freed,
-    ** already mapped memory for reuse) */
+    /* scratch, every entry written before it is read: world positions,
+    ** face normals and their zero flags (from the heap, which keeps the
+    ** earlier stages' freed, already mapped memory for reuse) */
     Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
     Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
+    unsigned char *zero = xmalloc((size_t)m->ntris + 1);
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
@@ -179,11 +185,12 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
       oe->lines = NULL;
       free(world);
       free(fn);
+      free(zero);
       continue;
     }
-    face_normals(fn, oe->front, m, world, cam);
+    face_normals(fn, zero, oe->front, m, world, cam);
     if (oe->lines) {
-      EdgeTest et = {m->tri_face, world, fn, oe->lines->kinds,
+      EdgeTest et = {m->tri_face, world, fn, zero, oe->lines->kinds,
                      cos(oe->lines->crease_angle * M_PI / 180.0), cam->kind == CAMERA_ORTHO,
                      cam->forward, cam->eye};
       int first = out->n;
@@ -206,6 +213,7 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     }
     free(world);
     free(fn);
+    free(zero);
   }
 }
 

@@ -375,6 +375,29 @@ TEST(one_pixel_segments) {
   line_ref_free(&ref);
 }
 
+/* Drawing walks a span step by step (LineSpanWalk), tracing asks for step
+** i (line_span_step): they must visit the same pixels, or an edge is
+** drawn where the trace does not look. Every span within 60 pixels, in
+** every direction. */
+TEST(span_walk_matches_steps) {
+  int bad = 0;
+  for (int dy = -60; dy <= 60; dy++)
+    for (int dx = -60; dx <= 60; dx++) {
+      LineSpan s;
+      memset(&s, 0, sizeof s);
+      s.px0 = 100; s.py0 = 200; s.px1 = 100 + dx; s.py1 = 200 + dy;
+      s.nsteps = (abs(dx) > abs(dy) ? abs(dx) : abs(dy)) + 1;
+      LineSpanWalk w;
+      line_span_walk_start(&w, &s);
+      for (int i = 0; i < s.nsteps; i++, line_span_walk_next(&w)) {
+        int x, y;
+        line_span_step(&s, i, &x, &y);
+        bad += x != w.x || y != w.y;
+      }
+    }
+  CHECK_EQ_INT(bad, 0);
+}
+
 /* ---- linking ---------------------------------------------------------------- */
 
 /* Polylines of the silhouette of a sphere of 96 x 48 faces drawn small
@@ -738,6 +761,7 @@ int main(void) {
   RUN(max_misses_bridges_hidden_parts);
   RUN(visible_and_hidden);
   RUN(one_pixel_segments);
+  RUN(span_walk_matches_steps);
   RUN(link_depth_on_distant_mesh);
   RUN(links_stay_in_object);
   RUN(ribbon_ribs_and_miter);
