@@ -26,26 +26,88 @@ static float lattice(int32_t i) {
   return (float)(x >> 8) * (1.0f / 16777216.0f);
 }
 
-/* Smooth 1D value noise in [0, 1). */
-static float vnoise(float x) {
-  float fl = floorf(x), f = x - fl;
-  int32_t i = (int32_t)fl;
+/* fminf and fmaxf without the call: the smaller (larger), or the one that
+** is not NaN. */
+static float minf(float a, float b) { return a < b || b != b ? a : b; }
+static float maxf(float a, float b) { return a > b || b != b ? a : b; }
+
+/* (int)floorf(x) and (int)ceilf(x) without the rounding sequence, for
+** |x| < 2^31, where the conversion is defined. */
+static int floor_int(float x) {
+  int i = (int)x;
+  if ((float)i > x) i--;   /* x < 0, not whole */
+  return i;
+}
+
+static int ceil_int(float x) {
+  int i = (int)x;
+  if ((float)i < x) i++;   /* x > 0, not whole */
+  return i;
+}
+
+/* A channel of smooth 1D value noise in [0, 1). It keeps its last
+** lattice cell: along a stroke the next pixel is mostly in the same one. */
+typedef struct Noise { int32_t i; float l0, l1; } Noise;
+
+static void noise_init(Noise *n) {
+  n->i = 0;
+  n->l0 = lattice(0);
+  n->l1 = lattice(1);
+}
+
+/* The noise at x. */
+static inline float vnoise(Noise *n, float x) {
+  int32_t i = floor_int(x);
+  float fl = (float)i, f = x - fl;
   float t = f * f * (3 - 2 * f);
-  return lattice(i) + t * (lattice(i + 1) - lattice(i));
+  if (i != n->i) { n->i = i; n->l0 = lattice(i); n->l1 = lattice(i + 1); }
+  return n->l0 + t * (n->l1 - n->l0);
+}
+
+/* The procedural ink of one stroke: its phases, length len, width W (at
+** least 1) and noise channels (dry, streak, ragged). */
+typedef struct Ink { const float *phase; float len, W; Noise n[3]; } Ink;
+
+static void ink_init(Ink *k, const float phase[4], float len, float w) {
+  k->phase = phase;
+  k->len = len;
+  k->W = w > 1 ? w : 1;
+  for (int j = 0; j < 3; j++) noise_init(&k->n[j]);
+}
+
+/* The factors of the ink that depend on the arc length s alone (a join,
+** at one s, works them out once). */
+typedef struct InkAlong { float s, along, drift, ends; } InkAlong;
+
+static inline void ink_along(Ink *k, float s, InkAlong *a) {
+  float W = k->W;
+  a->s = s;
+  /* mostly full ink (composited in linear light, 90 % ink already reads
+  ** grey), with rare thin patches where the brush ran dry and streaks */
+  float dry = vnoise(&k->n[0], s / (8 * W) + k->phase[0]);
+  a->along = 1 - 0.25f * dry * dry * dry * dry;
+  a->drift = s / (40 * W);
+  /* softer ends; m >= W makes m / W >= 1, which the clamp takes to 1 */
+  float m = minf(s, k->len - s);
+  a->ends = 0.6f + 0.4f * (m >= W ? 1 : clampf(m / W, 0, 1));
+}
+
+/* The ink at across position v. It is at most a->along * a->ends: every
+** other factor is in [0, 1]. */
+static inline float ink_across(Ink *k, const InkAlong *a, float v) {
+  float streak = vnoise(&k->n[1], v * 6 + k->phase[1] + a->drift);
+  float fibre = 1 - 0.08f * streak * streak;
+  float edge = fabsf(2 * v - 1);                                             /* 1 at the sides */
+  float ragged = edge > 0.85f ? 1 - (edge - 0.85f) / 0.15f * 0.5f * vnoise(&k->n[2], a->s / (1.5f * k->W) + k->phase[2]) : 1;
+  return clampf(a->along * fibre * ragged * a->ends, 0, 1);
 }
 
 float stroke_ink(const float phase[4], float s, float len, float v, float w) {
-  float W = w > 1 ? w : 1;
-  /* mostly full ink (composited in linear light, 90 % ink already reads
-  ** grey), with rare thin patches where the brush ran dry and streaks */
-  float dry = vnoise(s / (8 * W) + phase[0]), streak = vnoise(v * 6 + phase[1] + s / (40 * W));
-  float along = 1 - 0.25f * dry * dry * dry * dry;
-  float fibre = 1 - 0.08f * streak * streak;
-  float edge = fabsf(2 * v - 1);                                             /* 1 at the sides */
-  float ragged = edge > 0.85f ? 1 - (edge - 0.85f) / 0.15f * 0.5f * vnoise(s / (1.5f * W) + phase[2]) : 1;
-  float end = fminf(s, len - s) / W;                                         /* softer ends */
-  float ends = 0.6f + 0.4f * clampf(end, 0, 1);
-  return clampf(along * fibre * ragged * ends, 0, 1);
+  Ink k;
+  ink_init(&k, phase, len, w);
+  InkAlong a;
+  ink_along(&k, s, &a);
+  return ink_across(&k, &a, v);
 }
 
 /* The ink of an image texture at arc length s and across position v. */
@@ -72,10 +134,13 @@ static float image_ink(const Image *img, float s, float v, float w) {
   return clampf(acc, 0, 1);
 }
 
-static float texture_at(const Stroke *st, float s, float v) {
+/* The ink of st's texture at (s, v); ink is st's procedural ink. */
+static inline float texture_at(const Stroke *st, Ink *ink, float s, float v) {
   if (st->solid) return 1;
   if (st->texture) return image_ink(st->texture, s, v, st->width);
-  return stroke_ink(st->phase, s, st->s[st->npts - 1], v, st->width);
+  InkAlong a;
+  ink_along(ink, s, &a);
+  return ink_across(ink, &a, v);
 }
 
 /* ---- building ---------------------------------------------------------------- */
@@ -257,7 +322,7 @@ void stroke_list_free(StrokeList *sl) {
 ** being drawn (max-combined, so overlapping pieces do not darken). */
 typedef struct Band {
   int w, y0, y1;
-  float *cov;   /* w * (y1 - y0) */
+  float *cov;   /* w * (y1 - y0), 0 but for the stroke being drawn */
   int *lo, *hi; /* per row: the columns the stroke touched (lo > hi: none) */
   float *run;   /* w * 4: an 8-bit target's pixels being composited, linear */
 } Band;
@@ -265,26 +330,22 @@ typedef struct Band {
 /* Pixel rows/columns of the box [x0, x1] x [y0, y1] inside the band. */
 static int band_clip(const Band *b, float x0, float y0, float x1, float y1, int *xa, int *ya,
                      int *xb, int *yb) {
-  *xa = (int)fmaxf(0, floorf(x0));
-  *xb = (int)fminf((float)(b->w - 1), ceilf(x1));
-  *ya = (int)fmaxf((float)b->y0, floorf(y0));
-  *yb = (int)fminf((float)(b->y1 - 1), ceilf(y1));
+  *xa = floor_int(maxf(0, x0));   /* = fmaxf(0, floorf(x0)): the bound is an integer */
+  *xb = ceil_int(minf((float)(b->w - 1), x1));
+  *ya = floor_int(maxf((float)b->y0, y0));
+  *yb = ceil_int(minf((float)(b->y1 - 1), y1));
   return *xa <= *xb && *ya <= *yb;
 }
 
-/* The coverage pixel (x, y) has so far. Texture ink is at most 1, so a
-** pixel whose coverage is already at least a piece's cov needs no texture
-** lookup: the piece cannot raise it. */
-static float cov_at(const Band *b, int x, int y) {
-  return b->cov[(size_t)(y - b->y0) * b->w + x];
-}
+/* Coverage row y. */
+static float *band_row(const Band *b, int y) { return &b->cov[(size_t)(y - b->y0) * b->w]; }
 
-static void cov_max(const Band *b, int x, int y, float a) {
+/* Row y's columns [xa, xb] were written (none when xa > xb). */
+static void band_touch(const Band *b, int y, int xa, int xb) {
   int r = y - b->y0;
-  float *c = &b->cov[(size_t)r * b->w + x];
-  if (a > *c) *c = a;
-  if (x < b->lo[r]) b->lo[r] = x;
-  if (x > b->hi[r]) b->hi[r] = x;
+  if (xa > xb) return;
+  if (xa < b->lo[r]) b->lo[r] = xa;
+  if (xb > b->hi[r]) b->hi[r] = xb;
 }
 
 /* A half-plane nx * px + ny * py + d >= 0. */
@@ -299,18 +360,19 @@ static HalfPlane half_plane(float ax, float ay, float nx, float ny, float margin
 
 /* Columns [*xa, *xb] of row y whose pixel centres lie in every half-plane
 ** of hp, within [xa0, xb0]; 0 when none. Keeps the per-pixel
-** loops of long, thin pieces to the pixels near them, not their boxes. */
+** loops of long, thin pieces to the pixels near them, not their boxes.
+** (A bound that is NaN is no bound, as with fmaxf and fminf.) */
 static int row_span(const HalfPlane *hp, int n, int y, int xa0, int xb0, int *xa, int *xb) {
   float py = y + 0.5f, lo = (float)xa0 + 0.5f, hi = (float)xb0 + 0.5f;
   for (int k = 0; k < n; k++) {
     float r = hp[k].ny * py + hp[k].d;   /* nx * px + r >= 0 */
-    if (hp[k].nx > 1e-6f) lo = fmaxf(lo, -r / hp[k].nx);
-    else if (hp[k].nx < -1e-6f) hi = fminf(hi, -r / hp[k].nx);
+    if (hp[k].nx > 1e-6f) { float q = -r / hp[k].nx; if (q > lo) lo = q; }
+    else if (hp[k].nx < -1e-6f) { float q = -r / hp[k].nx; if (q < hi) hi = q; }
     else if (r < 0) return 0;
   }
   if (lo > hi) return 0;
-  *xa = (int)ceilf(lo - 0.5f);
-  *xb = (int)floorf(hi - 0.5f);
+  *xa = ceil_int(lo - 0.5f);
+  *xb = floor_int(hi - 0.5f);
   if (*xa < xa0) *xa = xa0;
   if (*xb > xb0) *xb = xb0;
   return *xa <= *xb;
@@ -323,7 +385,7 @@ static void cover_plain(const Band *b, const Stroke *st) {
     float ax = st->pts[2 * i], ay = st->pts[2 * i + 1], bx = st->pts[2 * i + 2], by = st->pts[2 * i + 3];
     int xa, ya, xb, yb;
     float pad = hw + 1.5f;
-    if (!band_clip(b, fminf(ax, bx) - pad, fminf(ay, by) - pad, fmaxf(ax, bx) + pad, fmaxf(ay, by) + pad,
+    if (!band_clip(b, minf(ax, bx) - pad, minf(ay, by) - pad, maxf(ax, bx) + pad, maxf(ay, by) + pad,
                    &xa, &ya, &xb, &yb))
       continue;
     float ex = bx - ax, ey = by - ay, ee = ex * ex + ey * ey, el = sqrtf(ee);
@@ -331,22 +393,22 @@ static void cover_plain(const Band *b, const Stroke *st) {
     HalfPlane hp[4] = {half_plane(ax, ay, ux, uy, pad), half_plane(bx, by, -ux, -uy, pad),
                        half_plane(ax, ay, -uy, ux, pad), half_plane(ax, ay, uy, -ux, pad)};
     for (int y = ya; y <= yb; y++) {
-      int x0, x1;
+      int x0, x1, wa = b->w, wb = -1;
       if (!row_span(hp, 4, y, xa, xb, &x0, &x1)) continue;
+      float *c = band_row(b, y);
       for (int x = x0; x <= x1; x++) {
         float px = x + 0.5f - ax, py = y + 0.5f - ay;
         float t = ee > 0 ? clampf((px * ex + py * ey) / ee, 0, 1) : 0;
         float qx = px - t * ex, qy = py - t * ey, d = sqrtf(qx * qx + qy * qy);
         float a = st->width >= 1 ? clampf(hw + 0.5f - d, 0, 1) : st->width * clampf(1 - d, 0, 1);
-        if (a > 0) cov_max(b, x, y, a);
+        if (a <= 0) continue;
+        if (a > c[x]) c[x] = a;
+        if (x < wa) wa = x;
+        wb = x;
       }
+      band_touch(b, y, wa, wb);
     }
   }
-}
-
-/* Signed distance of p from the line through a with unit normal n. */
-static float side(float px, float py, float ax, float ay, float nx, float ny) {
-  return (px - ax) * nx + (py - ay) * ny;
 }
 
 /* The inward unit normal of the side a -> b of a strip whose other side is
@@ -360,8 +422,10 @@ static void inward(float ax, float ay, float bx, float by, float cx, float cy, f
 
 /* Ribbon quad i: between rib i and rib i + 1 (hard edges there, so
 ** neighbours share them exactly), antialiased along its two sides and at
-** the strip's open ends. */
-static void cover_quad(const Band *b, const Stroke *st, int i) {
+** the strip's open ends. Texture ink is at most 1, so a pixel whose
+** coverage is already at least the quad's there needs no texture lookup:
+** the quad cannot raise it. */
+static void cover_quad(const Band *b, const Stroke *st, Ink *ink, int i) {
   const float *L = st->left, *R = st->right, *P = st->pts;
   int last = st->npts - 2;
   int cap0 = i == 0 && !st->closed, cap1 = i == last && !st->closed;
@@ -375,58 +439,95 @@ static void cover_quad(const Band *b, const Stroke *st, int i) {
   float nlx, nly, nrx, nry;
   inward(L[2 * i], L[2 * i + 1], L[2 * i + 2], L[2 * i + 3], R[2 * i], R[2 * i + 1], &nlx, &nly);
   inward(R[2 * i], R[2 * i + 1], R[2 * i + 2], R[2 * i + 3], L[2 * i], L[2 * i + 1], &nrx, &nry);
-  float x0 = fminf(fminf(L[2 * i], L[2 * i + 2]), fminf(R[2 * i], R[2 * i + 2])) - 1;
-  float x1 = fmaxf(fmaxf(L[2 * i], L[2 * i + 2]), fmaxf(R[2 * i], R[2 * i + 2])) + 1;
-  float y0 = fminf(fminf(L[2 * i + 1], L[2 * i + 3]), fminf(R[2 * i + 1], R[2 * i + 3])) - 1;
-  float y1 = fmaxf(fmaxf(L[2 * i + 1], L[2 * i + 3]), fmaxf(R[2 * i + 1], R[2 * i + 3])) + 1;
+  float x0 = minf(minf(L[2 * i], L[2 * i + 2]), minf(R[2 * i], R[2 * i + 2])) - 1;
+  float x1 = maxf(maxf(L[2 * i], L[2 * i + 2]), maxf(R[2 * i], R[2 * i + 2])) + 1;
+  float y0 = minf(minf(L[2 * i + 1], L[2 * i + 3]), minf(R[2 * i + 1], R[2 * i + 3])) - 1;
+  float y1 = maxf(maxf(L[2 * i + 1], L[2 * i + 3]), maxf(R[2 * i + 1], R[2 * i + 3])) + 1;
   int xa, ya, xb, yb;
   if (!band_clip(b, x0, y0, x1, y1, &xa, &ya, &xb, &yb)) return;
   float s0 = st->s[i], s1 = st->s[i + 1];
-  HalfPlane hp[4] = {half_plane(P[2 * i], P[2 * i + 1], d0x, d0y, 1),
-                     half_plane(P[2 * i + 2], P[2 * i + 3], -d1x, -d1y, 1),
-                     half_plane(L[2 * i], L[2 * i + 1], nlx, nly, 1),
-                     half_plane(R[2 * i], R[2 * i + 1], nrx, nry, 1)};
+  /* the pixels the tests below can accept, and a 1/32 pixel more for
+  ** rounding: sides at -0.5, ends at 0 (-0.5 at a cap) */
+  float m = 1.0f / 32;
+  HalfPlane hp[4] = {half_plane(P[2 * i], P[2 * i + 1], d0x, d0y, (cap0 ? 0.5f : 0) + m),
+                     half_plane(P[2 * i + 2], P[2 * i + 3], -d1x, -d1y, (cap1 ? 0.5f : 0) + m),
+                     half_plane(L[2 * i], L[2 * i + 1], nlx, nly, 0.5f + m),
+                     half_plane(R[2 * i], R[2 * i + 1], nrx, nry, 0.5f + m)};
   for (int y = ya; y <= yb; y++) {
-    int ra, rb;
+    int ra, rb, wa = b->w, wb = -1;
     if (!row_span(hp, 4, y, xa, xb, &ra, &rb)) continue;
+    float *c = band_row(b, y);
+    /* signed distances (p - a) . n from the four sides, their row terms
+    ** (py - ay) * ny taken out of the loop */
+    float py = y + 0.5f;
+    float fa_y = (py - P[2 * i + 1]) * d0y, fb_y = (py - P[2 * i + 3]) * d1y;
+    float dl_y = (py - L[2 * i + 1]) * nly, dr_y = (py - R[2 * i + 1]) * nry;
     for (int x = ra; x <= rb; x++) {
-      float px = x + 0.5f, py = y + 0.5f, capcov = 1;
-      float fa = side(px, py, P[2 * i], P[2 * i + 1], d0x, d0y);
-      float fb = side(px, py, P[2 * i + 2], P[2 * i + 3], d1x, d1y);
+      float px = x + 0.5f, capcov = 1;
+      float fa = (px - P[2 * i]) * d0x + fa_y;
+      float fb = (px - P[2 * i + 2]) * d1x + fb_y;
       if (cap0) { if (fa < -0.5f) continue; capcov *= clampf(fa + 0.5f, 0, 1); }
       else if (fa < 0) continue;
       if (cap1) { if (fb > 0.5f) continue; capcov *= clampf(0.5f - fb, 0, 1); }
       else if (fb > 0) continue;
-      float dl = side(px, py, L[2 * i], L[2 * i + 1], nlx, nly);
-      float dr = side(px, py, R[2 * i], R[2 * i + 1], nrx, nry);
+      float dl = (px - L[2 * i]) * nlx + dl_y;
+      float dr = (px - R[2 * i]) * nrx + dr_y;
       if (dl < -0.5f || dr < -0.5f) continue;
       float cov = clampf(dl + 0.5f, 0, 1) * clampf(dr + 0.5f, 0, 1) * capcov;
-      if (cov <= cov_at(b, x, y)) continue;
+      if (cov <= c[x]) continue;
       float t = fa - fb > 1e-6f ? clampf(fa / (fa - fb), 0, 1) : 0;
       float v = dl + dr > 1e-6f ? clampf(dr / (dl + dr), 0, 1) : 0.5f;
-      float a = cov * texture_at(st, s0 + t * (s1 - s0), v);
-      if (a > 0) cov_max(b, x, y, a);
+      float a = cov * texture_at(st, ink, s0 + t * (s1 - s0), v);
+      if (a <= 0) continue;
+      if (a > c[x]) c[x] = a;
+      if (x < wa) wa = x;
+      wb = x;
     }
+    band_touch(b, y, wa, wb);
   }
 }
 
 /* A round join of radius width / 2 at inner point i: fills the inside of
-** sharp turns where neighbouring quads' ribs cross. */
-static void cover_join(const Band *b, const Stroke *st, int i) {
+** sharp turns where neighbouring quads' ribs cross. Inside, the quads
+** have mostly inked the pixels already; the most ink the texture gives at
+** the join (top) skips the pixels it cannot raise. */
+static void cover_join(const Band *b, const Stroke *st, Ink *ink, int i) {
   float hw = st->width * 0.5f, cx = st->pts[2 * i], cy = st->pts[2 * i + 1];
   float rx = st->left[2 * i] - cx, ry = st->left[2 * i + 1] - cy, rl = sqrtf(rx * rx + ry * ry);
   if (hw <= 0 || rl < 1e-9f) return;
   rx /= rl; ry /= rl;
   int xa, ya, xb, yb;
   if (!band_clip(b, cx - hw - 1, cy - hw - 1, cx + hw + 1, cy + hw + 1, &xa, &ya, &xb, &yb)) return;
-  for (int y = ya; y <= yb; y++)
-    for (int x = xa; x <= xb; x++) {
+  float s = st->s[i], top = 1;
+  int proc = !st->solid && !st->texture;   /* procedural: its factors along s are the join's */
+  InkAlong along = {0, 0, 0, 0};
+  if (proc) {
+    ink_along(ink, s, &along);
+    top = along.along * along.ends;
+  }
+  float rr = hw + 0.5f + 1.0f / 32;   /* cov > 0 needs d < hw + 0.5; 1/32 for rounding */
+  for (int y = ya; y <= yb; y++) {
+    float dy = y + 0.5f - cy;
+    if (dy * dy >= rr * rr) continue;
+    float h = sqrtf(rr * rr - dy * dy);   /* the columns of the disc in this row */
+    int x0 = ceil_int(cx - h - 0.5f), x1 = floor_int(cx + h - 0.5f);
+    if (x0 < xa) x0 = xa;
+    if (x1 > xb) x1 = xb;
+    if (x0 > x1) continue;
+    float *c = band_row(b, y);
+    int wa = b->w, wb = -1;
+    for (int x = x0; x <= x1; x++) {
       float px = x + 0.5f - cx, py = y + 0.5f - cy, d = sqrtf(px * px + py * py);
       float cov = clampf(hw + 0.5f - d, 0, 1);
-      if (cov <= 0 || cov <= cov_at(b, x, y)) continue;
+      if (cov <= 0 || cov * top <= c[x]) continue;
       float v = clampf(0.5f + 0.5f * (px * rx + py * ry) / hw, 0, 1);
-      cov_max(b, x, y, cov * texture_at(st, st->s[i], v));
+      float a = cov * (proc ? ink_across(ink, &along, v) : texture_at(st, ink, s, v));
+      if (a > c[x]) c[x] = a;
+      if (x < wa) wa = x;
+      wb = x;
     }
+    band_touch(b, y, wa, wb);
+  }
 }
 
 /* Ink of colour col and coverage a over pixel p (linear; its alpha channel
@@ -501,9 +602,11 @@ static void stroke_band(void *ctx, int band, int worker) {
     if (st->kind == STROKE_PLAIN) {
       cover_plain(&b, st);
     } else {
-      for (int i = 0; i + 1 < st->npts; i++) cover_quad(&b, st, i);
-      for (int i = 1; i + 1 < st->npts; i++) cover_join(&b, st, i);
-      if (st->closed) cover_join(&b, st, 0);
+      Ink ink;
+      ink_init(&ink, st->phase, st->s[st->npts - 1], st->width);
+      for (int i = 0; i + 1 < st->npts; i++) cover_quad(&b, st, &ink, i);
+      for (int i = 1; i + 1 < st->npts; i++) cover_join(&b, st, &ink, i);
+      if (st->closed) cover_join(&b, st, &ink, 0);
     }
     composite(&b, st, j->target, ya, yb);
   }
