@@ -82,7 +82,10 @@ done
 echo "(medians of $RUNS rounds for sumi, $POV_RUNS for POV-Ray; work = median of run - the same command at 1x1;"
 echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
 
-# Per-stage times: each stage's median over 7 runs of --stats.
+# Per-stage times: each stage's median over 7 runs of --stats. The PNG is
+# encoded by the workers during the tile pass (nothing is drawn over this
+# frame): raster+shade includes it, and the write line gives the wall time
+# after the pass with the workers' encoding time in brackets.
 for size in 512x512 1920x1080; do
   W=${size%x*}; H=${size#*x}
   for t in 1 2; do
@@ -93,17 +96,20 @@ for size in 512x512 1920x1080; do
     echo "sumi $size, $t thread(s), per stage (median of 7 runs):"
     python3 - "$DIR/stats.txt" <<'PY'
 import re, statistics, sys
-vals, order, unit = {}, [], {}
+vals, order, unit, cpu = {}, [], {}, {}
 for line in open(sys.argv[1]):
-    m = re.match(r"stats: (.+?)\s{2,}([0-9.]+) (ms cpu|ms|MiB)", line)
+    m = re.match(r"stats: (.+?)\s{2,}([0-9.]+) (ms cpu|ms|MiB)(?:\s+\(cpu ([0-9.]+) ms\))?", line)
     if not m:
         continue
     name = m.group(1).strip()
     if name not in vals:
-        vals[name] = []; order.append(name); unit[name] = m.group(3)
+        vals[name] = []; order.append(name); unit[name] = m.group(3); cpu[name] = []
     vals[name].append(float(m.group(2)))
+    if m.group(4):   # wall time and, beside it, the workers' CPU time (the streamed write)
+        cpu[name].append(float(m.group(4)))
 for name in order:
-    print("  %-16s %9.2f %s" % (name, statistics.median(vals[name]), unit[name]))
+    extra = "   (cpu %.2f ms)" % statistics.median(cpu[name]) if cpu[name] else ""
+    print("  %-16s %9.2f %s%s" % (name, statistics.median(vals[name]), unit[name], extra))
 PY
   done
 done
