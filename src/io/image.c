@@ -178,7 +178,7 @@ Image *image_create8(int w, int h, int channels) {
 }
 
 Image *image_create8_unset(int w, int h, int channels) {
-  Image *img = image_shell(w, h, channels, 4, "image_create8");
+  Image *img = image_shell(w, h, channels, 4, "image_create8_unset");
   img->data8 = xmalloc_huge((size_t)w * (size_t)h * (size_t)channels);   /* a few faults */
   return img;
 }
