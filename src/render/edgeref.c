@@ -297,9 +297,9 @@ static int centre_columns(double lo, double hi, int xhi, int *xa, int *xb) {
 ** sides s: byte y & (LINE_REF_TILE - 1) of the result nonzero; 0 when none
 ** do. Rounding is monotone, so over those rows each side's bound lies
 ** between its values at the first and the last row (a side that is NaN at
-** either end may be anything between; it bounds nothing here). That gives the columns any of
-** the rows can reach; a row needs the raster only when it has a pixel to
-** write (run_pixels) in a tile of those columns. */
+** either end may be anything between; it bounds nothing here). That gives
+** the columns any of the rows can reach; a row needs the raster only when
+** it has a pixel to write (run_pixels) in a tile of those columns. */
 static uint64_t reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb) {
   const LineRef *ref = rt->ref;
   int xhi = ref->width - 1;

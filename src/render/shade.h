@@ -113,6 +113,19 @@ int shade_reads_uv(ShadeKind kind);
 ** 0 -> 3, specular_bands 0 -> 2, shininess 0 -> 32). */
 void shade_style_init(RenderStyle *rs, const SceneStyle *st);
 
+/* Unit vector toward point light lt from world point (x, y, z) into l*;
+** returns the falloff factor there (1 / d^2 for an inverse-square light,
+** else 1). shade_light and the toon bands' blocks share it, so a sample
+** gets the same bits shaded alone or side by side with others. */
+static inline float shade_point_light(const RenderLight *lt, float x, float y, float z, float *lx,
+                                      float *ly, float *lz) {
+  float dx = lt->pos[0] - x, dy = lt->pos[1] - y, dz = lt->pos[2] - z;
+  float d2 = dx * dx + dy * dy + dz * dz;
+  float inv = d2 > 0 ? 1 / sqrtf(d2) : 0;
+  *lx = dx * inv; *ly = dy * inv; *lz = dz * inv;
+  return lt->inverse_square & (d2 > 0) ? 1 / d2 : 1;
+}
+
 /* Unit vector toward light i from world point p into l, and the light's
 ** colour arriving there (with falloff) into col. */
 static inline void shade_light(const RenderFrame *f, int i, const float p[3], float l[3], float col[3]) {
@@ -121,11 +134,7 @@ static inline void shade_light(const RenderFrame *f, int i, const float p[3], fl
   if (lt->directional) {
     l[0] = lt->dir[0]; l[1] = lt->dir[1]; l[2] = lt->dir[2];
   } else {
-    l[0] = lt->pos[0] - p[0]; l[1] = lt->pos[1] - p[1]; l[2] = lt->pos[2] - p[2];
-    float d2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-    float inv = d2 > 0 ? 1 / sqrtf(d2) : 0;
-    l[0] *= inv; l[1] *= inv; l[2] *= inv;
-    if (lt->inverse_square && d2 > 0) k = 1 / d2;
+    k = shade_point_light(lt, p[0], p[1], p[2], &l[0], &l[1], &l[2]);
   }
   col[0] = lt->color[0] * k;
   col[1] = lt->color[1] * k;

@@ -59,7 +59,7 @@ static float banded_specular_tail(const RenderStyle *st, float nh, float hh) {
 ** stack. */
 #define TOON_BLOCK 64
 
-/* Unit vectors toward light i from samples k0..k0+n-1 of r into l*, and
+/* Unit vectors toward light lt from samples k0..k0+n-1 of r into l*, and
 ** the falloff factor into fall (shade_light, several samples at a time). */
 static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n, float *restrict lx,
                         float *restrict ly, float *restrict lz, float *restrict fall) {
@@ -70,13 +70,7 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
     return;
   }
   const float *px = r->px + k0, *py = r->py + k0, *pz = r->pz + k0;
-  for (int j = 0; j < n; j++) {
-    float x = lt->pos[0] - px[j], y = lt->pos[1] - py[j], z = lt->pos[2] - pz[j];
-    float d2 = x * x + y * y + z * z;
-    float inv = d2 > 0 ? 1 / sqrtf(d2) : 0;
-    lx[j] = x * inv; ly[j] = y * inv; lz[j] = z * inv;
-    fall[j] = lt->inverse_square & (d2 > 0) ? 1 / d2 : 1;
-  }
+  for (int j = 0; j < n; j++) fall[j] = shade_point_light(lt, px[j], py[j], pz[j], &lx[j], &ly[j], &lz[j]);
 }
 
 /* The specular term T_m(f_s) times the style's strength, for samples

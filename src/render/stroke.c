@@ -98,7 +98,9 @@ static inline float ink_across(Ink *k, const InkAlong *a, float v) {
   float streak = vnoise(&k->n[1], v * 6 + k->phase[1] + a->drift);
   float fibre = 1 - 0.08f * streak * streak;
   float edge = fabsf(2 * v - 1);                                             /* 1 at the sides */
-  float ragged = edge > 0.85f ? 1 - (edge - 0.85f) / 0.15f * 0.5f * vnoise(&k->n[2], a->s / (1.5f * k->W) + k->phase[2]) : 1;
+  float ragged = edge > 0.85f
+                     ? 1 - (edge - 0.85f) / 0.15f * 0.5f * vnoise(&k->n[2], a->s / (1.5f * k->W) + k->phase[2])
+                     : 1;
   return clampf(a->along * fibre * ragged * a->ends, 0, 1);
 }
 

@@ -122,13 +122,21 @@ TEST(derivatives_match_differences) {
 }
 
 TEST(eval_normal_agrees) {
-  /* the tessellator's one-pass point and normal equal the separate calls */
+  /* the one-pass point and normal equal the separate calls, and so does
+  ** the tessellator's pass from rows at u and weights at v made once */
   for (int n = 0; n < 10; n++) {
     ScenePatch p = random_patch();
     double u = (rnd() + 1) / 2, v = (rnd() + 1) / 2;
     Vec3 nrm, x = patch_eval_normal(&p, u, v, &nrm);
     CHECK_VEC(x, patch_eval(&p, u, v, NULL, NULL), 0);
     CHECK_VEC(nrm, patch_normal(&p, u, v), 0);
+    PatchRows rows;
+    PatchWeights w;
+    patch_rows(&p, u, &rows);
+    patch_weights(&p, v, &w);
+    Vec3 nr, xr = patch_eval_normal_rows(&p, &rows, &w, u, v, &nr);
+    CHECK_VEC(xr, x, 0);
+    CHECK_VEC(nr, nrm, 0);
   }
 }
 
