@@ -490,11 +490,7 @@ static const Command commands[] = {
 };
 
 int main(int argc, char **argv) {
-  /* A frame allocates and frees large buffers stage after stage; keep
-  ** freed memory in the heap for the next stage rather than handing it
-  ** back to the kernel, which would zero fresh pages for it again. */
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mem_heap_setup();   /* big buffers, stage after stage (base/mem.h) */
   Options o;
   memset(&o, 0, sizeof o);
   parse_options(argc, argv, &o);

@@ -3,12 +3,14 @@
 */
 #include "mem.h"
 
+#include <malloc.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
 _Noreturn void sumi_fatal(const char *fmt, ...) {
   va_list ap;
@@ -77,6 +79,19 @@ void mem_populate(void *p, size_t n) {
 #else
   (void)p;
   (void)n;
+#endif
+}
+
+void mem_heap_setup(void) {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#ifdef MADV_HUGEPAGE
+  mallopt(M_TOP_PAD, 64 << 20);              /* the heap grows 64 MB at a time */
+  char *lo = sbrk(0);
+  void *volatile p = malloc(1 << 20);        /* ... once now (volatile: the call must stay) */
+  char *hi = sbrk(0);
+  if (hi > lo) mem_advise_huge(lo, (size_t)(hi - lo));   /* malloc's heap did grow */
+  free(p);
 #endif
 }
 
