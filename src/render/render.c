@@ -721,22 +721,19 @@ static RastTarget tile_target(Worker *w, int tx, int ty) {
 /* Shade the n samples of a tile row starting at plane index i into out,
 ** nc floats a sample (3 or 4; the 4th is the alpha: 1 where shaded), the
 ** background bg where nothing was drawn. Two passes: rebuild the surface
-** at every drawn sample into the worker's row, per run of one triangle,
-** and normalise the row's normals and view vectors together; then shade
-** them, one span call per run of one object. */
+** at every drawn sample into the worker's row, per run of one triangle;
+** then shade them, one span call per run of one object. */
 static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, float *out, int nc,
                       const float bg[4], ShadeRow *row) {
   const int32_t *obj = rt->object + i, *face = rt->face + i;
   const RenderObject *objects = job->f->objects;
-  float nn[RENDER_TILE * RENDER_MAX_SAMPLES], vv[RENDER_TILE * RENDER_MAX_SAMPLES];
   row->face = face;
   row->bary = (const float(*)[2])rt->bary + i;
-  for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface */
-    if (obj[k] < 0) { nn[k] = vv[k] = 0; e = k + 1; continue; }
+  for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface, left to right */
+    if (obj[k] < 0) { e = k + 1; continue; }            /* background: its lanes go unused */
     for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
-    shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e, nn, vv);
+    shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e);
   }
-  shade_row_unit(row, nn, vv, n);                       /* background lanes: 0, unused */
   for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
     if (obj[k] < 0) {                                    /* a run of background */
       for (e = k; e < n && obj[e] < 0; e++) {

@@ -91,80 +91,85 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
 /* ---- rows of samples ---------------------------------------------------- */
 
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n) {
-  float *pl = xcalloc(11 * (size_t)n, sizeof *pl);   /* p, n, v, uv: one block, px first */
-  *r = (ShadeRow){.frame = f, .px = pl, .py = pl + n, .pz = pl + 2 * n,
-                  .nx = pl + 3 * n, .ny = pl + 4 * n, .nz = pl + 5 * n,
-                  .vx = pl + 6 * n, .vy = pl + 7 * n, .vz = pl + 8 * n,
-                  .u = pl + 9 * n, .v = pl + 10 * n};
+  int m = n + SHADE_LANES;   /* a plane's spare lanes: shade_row_rebuild writes up to 3 past a run */
+  float *pl = xcalloc(11 * (size_t)m, sizeof *pl);   /* p, n, v, uv: one block, px first */
+  *r = (ShadeRow){.frame = f, .px = pl, .py = pl + m, .pz = pl + 2 * m,
+                  .nx = pl + 3 * m, .ny = pl + 4 * m, .nz = pl + 5 * m,
+                  .vx = pl + 6 * m, .vy = pl + 7 * m, .vz = pl + 8 * m,
+                  .u = pl + 9 * m, .v = pl + 10 * m};
 }
 
 void shade_row_free(ShadeRow *r) { free(r->px); }
 
-/* The per-sample loop of shade_row_rebuild for corners c (p0, p1, p2,
-** n0, n1, n2). Restrict parameters: the planes overlap neither each other
-** nor the corners, so the loop runs several samples at a time. */
-static inline void rebuild_lanes(const float *const c[6], const ShadeView *view, int flip, int k0,
-                                 int k1, const float *restrict bary, float *restrict px,
-                                 float *restrict py, float *restrict pz, float *restrict nx,
-                                 float *restrict ny, float *restrict nz, float *restrict vx,
-                                 float *restrict vy, float *restrict vz, float *restrict nn,
-                                 float *restrict vv) {
+/* One group: samples k..k+SHADE_LANES-1 of a row from corners c (p0, p1,
+** p2, n0, n1, n2) and their (b1, b2) pairs in b12: the planes get the
+** surface, the unit normal (times sign: -1 on a back face) and the unit
+** view vector. A fixed number of lanes and restrict planes, so the compiler
+** runs the group side by side (SSE); each lane's arithmetic is that of one
+** sample alone, in the same order. */
+static inline __attribute__((always_inline)) void rebuild_group(
+    const float *const c[6], const float eye[3], float sign, int k, const float *restrict b12,
+    float *restrict px, float *restrict py, float *restrict pz, float *restrict nx,
+    float *restrict ny, float *restrict nz, float *restrict vx, float *restrict vy,
+    float *restrict vz) {
   const float *p0 = c[0], *p1 = c[1], *p2 = c[2], *n0 = c[3], *n1 = c[4], *n2 = c[5];
-  const float *eye = view->eye, *back = view->back;
-  float sign = flip ? -1.0f : 1.0f;              /* a back face's normal turns around */
-  for (int k = k0; k < k1; k++) {
-    float b1 = bary[2 * k], b2 = bary[2 * k + 1], b0 = 1 - b1 - b2;
+  for (int j = 0; j < SHADE_LANES; j++) {
+    float b1 = b12[2 * j], b2 = b12[2 * j + 1], b0 = 1 - b1 - b2;
     float x = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
     float y = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
     float z = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
     float a = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
     float b = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
     float d = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
-    nn[k] = (a * a + b * b + d * d) * sign;
+    float nn = a * a + b * b + d * d;
+    float sn = (nn > 0 ? 1 / sqrtf(nn) : 0) * sign;   /* a zero normal stays zero */
     float ex = eye[0] - x, ey = eye[1] - y, ez = eye[2] - z;   /* toward the eye */
-    vx[k] = ex; vy[k] = ey; vz[k] = ez;
-    vv[k] = ex * ex + ey * ey + ez * ez;
-    px[k] = x; py[k] = y; pz[k] = z;
-    nx[k] = a; ny[k] = b; nz[k] = d;
+    float vv = ex * ex + ey * ey + ez * ez;
+    float sv = vv > 0 ? 1 / sqrtf(vv) : 0;
+    px[k + j] = x; py[k + j] = y; pz[k + j] = z;
+    nx[k + j] = a * sn; ny[k + j] = b * sn; nz[k + j] = d * sn;
+    vx[k + j] = ex * sv; vy[k + j] = ey * sv; vz[k + j] = ez * sv;
   }
-  if (view->ortho)                               /* the one unit view vector */
-    for (int k = k0; k < k1; k++) {
-      vx[k] = back[0]; vy[k] = back[1]; vz[k] = back[2]; vv[k] = 1;
-    }
+}
+
+/* Samples k0..k1-1 of a row, group by group; the last group's lanes past
+** k1 read (0, 0) and write the planes' spare samples past the run. */
+static void rebuild_run(const float *const c[6], const float eye[3], float sign, int k0, int k1,
+                        const float *restrict bary, float *restrict px, float *restrict py,
+                        float *restrict pz, float *restrict nx, float *restrict ny,
+                        float *restrict nz, float *restrict vx, float *restrict vy,
+                        float *restrict vz) {
+  int k = k0;
+  for (; k + SHADE_LANES <= k1; k += SHADE_LANES)
+    rebuild_group(c, eye, sign, k, bary + 2 * k, px, py, pz, nx, ny, nz, vx, vy, vz);
+  if (k == k1) return;
+  float tail[2 * SHADE_LANES] = {0};
+  for (int j = 0; j < 2 * (k1 - k); j++) tail[j] = bary[2 * k + j];
+  rebuild_group(c, eye, sign, k, tail, px, py, pz, nx, ny, nz, vx, vy, vz);
 }
 
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
-                       int k0, int k1, float *nn, float *vv) {
+                       int k0, int k1) {
   const int *t = o->mesh->tri[face];
   const float *c[6] = {o->wpos[t[0]], o->wpos[t[1]], o->wpos[t[2]]};   /* then the normals */
   for (int i = 0; i < 3; i++)   /* hard edges: the triangle's own corner normals */
     c[3 + i] = o->wcnrm ? o->wcnrm[face][i] : o->wnrm[t[i]];
+  float sign = o->backfacing[face] ? -1.0f : 1.0f;   /* a back face's normal turns around */
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
-  rebuild_lanes(c, view, o->backfacing[face], k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz,
-                r->vx, r->vy, r->vz, nn, vv);
+  rebuild_run(c, view->eye, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
+              r->vy, r->vz);
+  if (view->ortho)   /* the one unit view vector */
+    for (int j = k0; j < k1; j++) {
+      r->vx[j] = view->back[0]; r->vy[j] = view->back[1]; r->vz[j] = view->back[2];
+    }
   if (!view->want_uv) return;   /* no style reads uv: its planes stay 0 */
   const Vec2 *uv = o->mesh->uv;
-  for (int k = k0; k < k1; k++) r->u[k] = r->v[k] = 0;
+  for (int j = k0; j < k1; j++) r->u[j] = r->v[j] = 0;
   if (!uv) return;
-  for (int k = k0; k < k1; k++) {
-    float b1 = bary[2 * k], b2 = bary[2 * k + 1], b0 = 1 - b1 - b2;
-    r->u[k] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
-    r->v[k] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
-  }
-}
-
-void shade_row_unit(ShadeRow *r, float *restrict nn, float *restrict vv, int n) {
-  for (int k = 0; k < n; k++) {   /* no branches (1 / 0 is inf, not a trap), so it runs in lanes */
-    float a = fabsf(nn[k]), b = vv[k];
-    float ia = 1 / sqrtf(a), ib = 1 / sqrtf(b);
-    nn[k] = copysignf(a > 0 ? ia : 0, nn[k]);
-    vv[k] = b > 0 ? ib : 0;
-  }
-  float *restrict nx = r->nx, *restrict ny = r->ny, *restrict nz = r->nz;
-  float *restrict vx = r->vx, *restrict vy = r->vy, *restrict vz = r->vz;
-  for (int k = 0; k < n; k++) {
-    nx[k] *= nn[k]; ny[k] *= nn[k]; nz[k] *= nn[k];
-    vx[k] *= vv[k]; vy[k] *= vv[k]; vz[k] *= vv[k];
+  for (int j = k0; j < k1; j++) {
+    float b1 = bary[2 * j], b2 = bary[2 * j + 1], b0 = 1 - b1 - b2;
+    r->u[j] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
+    r->v[j] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
   }
 }
 

@@ -8,8 +8,8 @@
 **                 edge (004; 002 section 2)
 ** The tile pass shades a row of samples in two steps: it rebuilds each
 ** sample's surface from its triangle's corners into a ShadeRow, plane by
-** plane (shade_row_rebuild per run of samples of one triangle, then
-** shade_row_unit for the whole row), and the model's span shader
+** plane (shade_row_rebuild per run of samples of one triangle, several
+** samples side by side), and the model's span shader
 ** (shade_span_model) colours each run of samples of one object.
 ** The lighting equation every lit model shares (002 eq. 1):
 **   I = m_a l_a + sum_i m_d T(f_d) l_i + sum_i m_s T(f_s) l_i
@@ -61,8 +61,11 @@ typedef struct ShadeRow {
   float *u, *v;
 } ShadeRow;
 
-/* A row of n samples for frame f, its planes zeroed; shade_row_free
-** releases them. */
+/* Samples shade_row_rebuild works on side by side. */
+#define SHADE_LANES 4
+
+/* A row of n samples for frame f, its planes zeroed, each with
+** SHADE_LANES spare samples past n; shade_row_free releases them. */
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n);
 void shade_row_free(ShadeRow *r);
 
@@ -76,18 +79,13 @@ typedef struct ShadeView {
 } ShadeView;
 
 /* Rebuild samples k0..k1-1 of r, which all show triangle face of object o,
-** into r's planes, leaving the normal and view vector unnormalised: their
-** squared lengths go to nn[k] (negated on a back face, whose normal turns
-** toward the viewer) and vv[k]; shade_row_unit then normalises the row. */
+** into r's planes: the point, the unit normal (turned toward the viewer on
+** a back face; a zero one stays zero) and the unit view vector, SHADE_LANES
+** samples at a time. The last lanes may write up to SHADE_LANES - 1
+** samples past k1 (the planes' spare samples, or ones the next run
+** rebuilds), so a row is rebuilt run after run from left to right. */
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
-                       int k0, int k1, float *nn, float *vv);
-
-/* Scale the normals and view vectors of samples 0..n-1 of r to unit length
-** by the squared lengths shade_row_rebuild left in nn and vv (a zero
-** vector stays zero). Loops over plain floats, which the compiler runs
-** several lanes at a time; IEEE square root and division, so the results
-** are those of one sample at a time. */
-void shade_row_unit(ShadeRow *r, float *restrict nn, float *restrict vv, int n);
+                       int k0, int k1);
 
 /* Sample k of r, which shows object o, as one ShadeSample. */
 void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s);
