@@ -6,7 +6,6 @@
 **   2  bad usage: unknown option, missing argument
 */
 #include <errno.h>
-#include <malloc.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -686,8 +686,9 @@ typedef struct Worker {
 } Worker;
 
 /* The target for tile (tx, ty): the whole G-buffer's planes, or the
-** worker's own, with the tile's rectangle cleared to the background. */
-static RastTarget tile_target(Worker *w, int tx, int ty) {
+** worker's own, with the tile's rectangle cleared to the background when
+** clear is set. */
+static RastTarget tile_target(Worker *w, int tx, int ty, int clear) {
   const Bins *b = w->job->bins;
   GBuffer *g = w->job->full;
   RastTarget rt = {0};
@@ -706,7 +707,7 @@ static RastTarget tile_target(Worker *w, int tx, int ty) {
     rt.stride = b->side;
     rt.depth = w->depth; rt.object = w->object; rt.face = w->face; rt.bary = w->bary;
   }
-  for (int y = rt.y0; y < rt.y1; y++) {
+  for (int y = rt.y0; clear && y < rt.y1; y++) {
     int i = (y - rt.oy) * rt.stride + (rt.x0 - rt.ox), n = rt.x1 - rt.x0;
     for (int k = 0; k < n; k++) rt.depth[i + k] = GBUF_NO_DEPTH;
     memset(rt.object + i, 0xff, (size_t)n * sizeof *rt.object);   /* -1 */
@@ -768,8 +769,10 @@ static void put_row(const TileJob *job, int x0, int y, int n, const float *prow)
 /* One sample a pixel: the sample is the pixel. A float image is shaded in
 ** place. An 8-bit one gets each row's shaded runs encoded and its
 ** background runs copied from a row of background codes: most rows hold
-** background only and are not shaded at all. */
-static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeRow *row, float *prow) {
+** background only and are not shaded at all. A tile no triangle touches
+** (empty) is all background, its planes not even read. */
+static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, ShadeRow *row,
+                         float *prow) {
   Color bg = job->f->background;
   float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
   const Image *img = job->out;
@@ -783,11 +786,16 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeRow *row
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
     size_t at = ((size_t)y * img->width + rt->x0) * nc;
     if (!img->data8) {
-      shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
+      if (!empty) shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
+      else for (int k = 0; k < n * nc; k++) img->data[at + k] = bgu[k % nc];
+      continue;
+    }
+    uint8_t *d = &img->data8[at];
+    if (empty) {
+      memcpy(d, bgrow, (size_t)(n * nc));
       continue;
     }
     const int32_t *obj = rt->object + i;
-    uint8_t *d = &img->data8[at];
     uint32_t all = 0xffffffffu;   /* stays all ones when every sample is background (-1) */
     for (int k = 0; k < n; k++) all &= (uint32_t)obj[k];
     if (all == 0xffffffffu) {
@@ -808,11 +816,11 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, ShadeRow *row
 ** (premultiplied, over the background) into the output image; rows holds
 ** N rows of the tile's samples, 4 floats each; row the worker's ShadeRow;
 ** prow a row of pixels for an 8-bit image. */
-static void shade_tile(const TileJob *job, const RastTarget *rt, float *rows, ShadeRow *row,
-                       float *prow) {
+static void shade_tile(const TileJob *job, const RastTarget *rt, int empty, float *rows,
+                       ShadeRow *row, float *prow) {
   const RenderFrame *f = job->f;
   int N = f->samples;
-  if (N == 1) { shade_tile_1(job, rt, row, prow); return; }
+  if (N == 1) { shade_tile_1(job, rt, empty, row, prow); return; }
   Color bg = f->background;
   float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied */
   float nn = (float)(N * N), inv_nn = 1.0f / nn;
@@ -908,13 +916,16 @@ static void *tile_worker(void *arg) {
     int k = atomic_fetch_add(&job->next, 1);
     if (k >= ntiles) break;
     double t0 = stats_now();
-    RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x);
+    /* a tile no triangle touches, one sample a pixel, no G-buffer kept:
+    ** the background, without clearing planes to read them back */
+    int empty = b->start[k] == b->start[k + 1] && job->f->samples == 1 && !job->full;
+    RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x, !empty);
     int first_back = b->start[k] + b->nfront[k];
     raster_items(b, b->start[k], first_back, INFINITY, &rt);
     if (first_back < b->start[k + 1])   /* behind all the front faces drawn: skipped */
       raster_items(b, first_back, b->start[k + 1], tile_far(&rt), &rt);
     double t1 = stats_now();
-    shade_tile(job, &rt, w->rows, &w->row, w->prow);
+    shade_tile(job, &rt, empty, w->rows, &w->row, w->prow);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
     if (job->rows) tile_done(w, k / b->tiles_x);
