@@ -489,7 +489,6 @@ static const Command commands[] = {
 };
 
 int main(int argc, char **argv) {
-  mem_heap_setup();   /* big buffers, stage after stage (base/mem.h) */
   Options o;
   memset(&o, 0, sizeof o);
   parse_options(argc, argv, &o);
@@ -499,6 +498,7 @@ int main(int argc, char **argv) {
   if (!cmd) bad_usage("unknown command `%s`", o.command);
   if (!o.input) bad_usage("`sumi %s` needs an input file (or - for standard input)", o.command);
   if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
+  mem_heap_setup(cmd->needs_output);   /* the commands with an output render frames (base/mem.h) */
   int status = cmd->run(&o);
   diag_shutdown();
   free((void *)o.defines);

@@ -82,16 +82,19 @@ void mem_populate(void *p, size_t n) {
 #endif
 }
 
-void mem_heap_setup(void) {
+void mem_heap_setup(int frames) {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
 #ifdef MADV_HUGEPAGE
+  if (!frames) return;
   mallopt(M_TOP_PAD, 64 << 20);              /* the heap grows 64 MB at a time */
   char *lo = sbrk(0);
   void *volatile p = malloc(1 << 20);        /* ... once now (volatile: the call must stay) */
   char *hi = sbrk(0);
   if (hi > lo) mem_advise_huge(lo, (size_t)(hi - lo));   /* malloc's heap did grow */
   free(p);
+#else
+  (void)frames;
 #endif
 }
 
