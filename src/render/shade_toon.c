@@ -98,6 +98,22 @@ static void highlight_block(const ShadeRow *r, const RenderStyle *st, int k0, in
       if (lit[j]) ts[j] = st->specular * banded_specular_tail(st, nhs[j], hhs[j]);
 }
 
+/* Whether some sample k0..k0+n-1 of r, lit from direction l, passes
+** highlight_block's cut (so its specular term may not be 0). */
+static int any_highlight(const ShadeRow *r, const RenderStyle *st, const float l[3], int k0, int n) {
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+  float cut2 = st->spec_cut * st->spec_cut;
+  int any = 0;
+  for (int j = 0; j < n; j++) {
+    float d = nx[j] * l[0] + ny[j] * l[1] + nz[j] * l[2];
+    float hx = l[0] + vx[j], hy = l[1] + vy[j], hz = l[2] + vz[j];
+    float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
+    any |= !(d <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
+  }
+  return any;
+}
+
 /* Bands for samples k0..k0+n-1 (n <= TOON_BLOCK): T_n on each light's
 ** diffuse term, T_m on its specular term, the sums per channel in planes.
 ** Each sample's arithmetic is the same, in the same order, whether it is
@@ -117,6 +133,19 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
   }
   for (int i = 0; i < r->frame->nlights; i++) {
     const RenderLight *lt = &r->frame->lights[i];
+    if (lt->directional && !(st->specular > 0 && any_highlight(r, st, lt->dir, k0, n))) {
+      /* the common case: a sun and no highlight in the block, one loop */
+      float dx = lt->dir[0], dy = lt->dir[1], dz = lt->dir[2];
+      float c0 = lt->color[0], c1 = lt->color[1], c2 = lt->color[2];   /* falloff 1: c * 1 is c */
+      for (int j = 0; j < n; j++) {
+        float d = nx[j] * dx + ny[j] * dy + nz[j] * dz;
+        float t = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
+        R[j] += (base[0] * t + 0.0f) * c0;   /* + 0: the specular term, as below */
+        G[j] += (base[1] * t + 0.0f) * c1;
+        B[j] += (base[2] * t + 0.0f) * c2;
+      }
+      continue;
+    }
     light_block(lt, r, k0, n, lx, ly, lz, fall);
     for (int j = 0; j < n; j++) {
       float d = nx[j] * lx[j] + ny[j] * ly[j] + nz[j] * lz[j];
