@@ -134,11 +134,11 @@ static inline __attribute__((always_inline)) void rebuild_group(
 
 /* Samples k0..k1-1 of a row, group by group; the last group's lanes past
 ** k1 read (0, 0) and write the planes' spare samples past the run. */
-static void rebuild_run(const float *const c[6], const float eye[3], float sign, int k0, int k1,
-                        const float *restrict bary, float *restrict px, float *restrict py,
-                        float *restrict pz, float *restrict nx, float *restrict ny,
-                        float *restrict nz, float *restrict vx, float *restrict vy,
-                        float *restrict vz) {
+static inline void rebuild_run(const float *const c[6], const float eye[3], float sign, int k0,
+                               int k1, const float *restrict bary, float *restrict px,
+                               float *restrict py, float *restrict pz, float *restrict nx,
+                               float *restrict ny, float *restrict nz, float *restrict vx,
+                               float *restrict vy, float *restrict vz) {
   int k = k0;
   for (; k + SHADE_LANES <= k1; k += SHADE_LANES)
     rebuild_group(c, eye, sign, k, bary + 2 * k, px, py, pz, nx, ny, nz, vx, vy, vz);
@@ -151,9 +151,11 @@ static void rebuild_run(const float *const c[6], const float eye[3], float sign,
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
                        int k0, int k1) {
   const int *t = o->mesh->tri[face];
-  const float *c[6] = {o->wpos[t[0]], o->wpos[t[1]], o->wpos[t[2]]};   /* then the normals */
-  for (int i = 0; i < 3; i++)   /* hard edges: the triangle's own corner normals */
-    c[3 + i] = o->wcnrm ? o->wcnrm[face][i] : o->wnrm[t[i]];
+  const float *c[6] = {o->wpos[t[0]], o->wpos[t[1]], o->wpos[t[2]],   /* then the normals: */
+                       o->wnrm[t[0]], o->wnrm[t[1]], o->wnrm[t[2]]};
+  if (o->wcnrm) {   /* hard edges: the triangle's own corner normals */
+    c[3] = o->wcnrm[face][0]; c[4] = o->wcnrm[face][1]; c[5] = o->wcnrm[face][2];
+  }
   float sign = o->backfacing[face] ? -1.0f : 1.0f;   /* a back face's normal turns around */
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
   rebuild_run(c, view->eye, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
