@@ -786,8 +786,10 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, Sh
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
     size_t at = ((size_t)y * img->width + rt->x0) * nc;
     if (!img->data8) {
-      if (!empty) shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
-      else for (int k = 0; k < n * nc; k++) img->data[at + k] = bgu[k % nc];
+      if (empty)
+        for (int k = 0; k < n * nc; k++) img->data[at + k] = bgu[k % nc];
+      else
+        shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
       continue;
     }
     uint8_t *d = &img->data8[at];
@@ -851,7 +853,8 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, int empty, floa
 }
 
 /* The farthest depth in rectangle [x0, x1) x [y0, y1) of rt
-** (GBUF_NO_DEPTH where it is empty; 0 when the rectangle is). Eight
+** (GBUF_NO_DEPTH if nothing is drawn at some sample of it; 0 for a
+** rectangle of no samples). Eight
 ** running maxima, one per column mod 8, so the comparisons do not wait on
 ** each other; the same value as one running maximum. */
 static float rect_far(const RastTarget *rt, int x0, int y0, int x1, int y1) {

@@ -91,7 +91,7 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
 /* ---- rows of samples ---------------------------------------------------- */
 
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n) {
-  int m = n + SHADE_LANES;   /* a plane's spare lanes: shade_row_rebuild writes up to 3 past a run */
+  int m = n + SHADE_LANES;   /* spare lanes: shade_row_rebuild writes up to 3 past a run */
   float *pl = xcalloc(11 * (size_t)m, sizeof *pl);   /* p, n, v, uv: one block, px first */
   *r = (ShadeRow){.frame = f, .px = pl, .py = pl + m, .pz = pl + 2 * m,
                   .nx = pl + 3 * m, .ny = pl + 4 * m, .nz = pl + 5 * m,

@@ -100,7 +100,8 @@ static void highlight_block(const ShadeRow *r, const RenderStyle *st, int k0, in
 
 /* Whether some sample k0..k0+n-1 of r, lit from direction l, passes
 ** highlight_block's cut (so its specular term may not be 0). */
-static int any_highlight(const ShadeRow *r, const RenderStyle *st, const float l[3], int k0, int n) {
+static int any_highlight(const ShadeRow *r, const RenderStyle *st, const float l[3], int k0,
+                         int n) {
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
   float cut2 = st->spec_cut * st->spec_cut;
