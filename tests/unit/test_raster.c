@@ -393,6 +393,44 @@ TEST(identical_bytes_at_1_2_8_threads) {
   arena_free(&s.arena);
 }
 
+/* One sample a pixel in a wide frame: the tiles beside the spheres hold no
+** triangle and are written as background straight away (render.c). The
+** image is the one the full G-buffer path makes, which clears and reads
+** every tile, in float and in 8-bit codes, at 1 and 2 threads. */
+TEST(empty_tiles_give_the_background) {
+  Scene s;
+  build_scene(&s, SHADE_TOON);
+  s.output.samples = 1;
+  s.output.width = 640;   /* the spheres in the middle, background tiles at the sides */
+  Image *full;
+  GBuffer *gb;
+  RenderOptions o = {.threads = 1};
+  CHECK_EQ_INT(render_scene(&s, &o, &full, &gb), 0);
+  int empty_cols = 0;   /* leading columns with nothing drawn: at least one tile's width */
+  for (int x = 0, clear = 1; x < gb->width && clear; x++) {
+    for (int y = 0; y < gb->height; y++) clear &= gb->object[y * gb->width + x] < 0;
+    empty_cols += clear;
+  }
+  CHECK(empty_cols >= 2 * RENDER_TILE);
+  size_t npix = (size_t)full->width * full->height;
+  uint8_t *want = malloc(npix * 3);
+  image_to_srgb8(full, want);
+  for (int t = 1; t <= 2; t++) {
+    Image *tiles, *img8;
+    RenderOptions of = {.threads = t}, o8 = {.threads = t, .out8 = 1};
+    CHECK_EQ_INT(render_scene(&s, &of, &tiles, NULL), 0);
+    CHECK(memcmp(full->data, tiles->data, npix * 3 * sizeof(float)) == 0);
+    CHECK_EQ_INT(render_scene(&s, &o8, &img8, NULL), 0);
+    CHECK(memcmp(want, img8->data8, npix * 3) == 0);
+    image_destroy(tiles);
+    image_destroy(img8);
+  }
+  free(want);
+  image_destroy(full);
+  gbuf_destroy(gb);
+  arena_free(&s.arena);
+}
+
 /* A closed sphere seen whole shows no background inside its outline, and
 ** its G-buffer normals face the viewer (two-sided shading never needed). */
 TEST(closed_mesh_has_no_cracks) {
@@ -672,6 +710,7 @@ int main(void) {
   RUN(auto_camera_frames_box);
   RUN(unproject_inverts_projection);
   RUN(identical_bytes_at_1_2_8_threads);
+  RUN(empty_tiles_give_the_background);
   RUN(closed_mesh_has_no_cracks);
   RUN(back_face_culling_only_when_hidden);
   RUN(skipping_hidden_back_faces_keeps_the_depth);
