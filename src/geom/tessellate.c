@@ -424,6 +424,14 @@ static int cut_is_grid(const PatchCut *c) {
   return c->e[0] == c->nu && c->e[2] == c->nu && c->e[1] == c->nv && c->e[3] == c->nv;
 }
 
+/* A cut that is not a grid stitches a strip along each border to an inner
+** grid, which then needs at least two segments each way. */
+static PatchCut cut_with_strips(PatchCut c) {
+  if (c.nu < 2) c.nu = 2;
+  if (c.nv < 2) c.nv = 2;
+  return c;
+}
+
 /* Adds the vertices and triangles cut_patch makes for c to *nv and *nt. */
 static void cut_size(PatchCut c, long long *nv, long long *nt) {
   long long verts = 4;   /* the corners, then each border's inner points */
@@ -433,8 +441,7 @@ static void cut_size(PatchCut c, long long *nv, long long *nt) {
     *nt += 2LL * c.nu * c.nv;
     return;
   }
-  if (c.nu < 2) c.nu = 2;   /* as cut_patch */
-  if (c.nv < 2) c.nv = 2;
+  c = cut_with_strips(c);
   *nv += verts + (long long)(c.nu - 1) * (c.nv - 1);
   /* the inner cells, then each strip: one triangle per segment of either side */
   *nt += 2LL * (c.nu - 2) * (c.nv - 2) + c.e[0] + c.e[1] + c.e[2] + c.e[3] + 2LL * (c.nu - 2) +
@@ -444,10 +451,7 @@ static void cut_size(PatchCut c, long long *nv, long long *nt) {
 /* Cuts patch p (cubic) as c says into b. */
 static void cut_patch(TessBuf *b, const ScenePatch *p, int face, PatchCut c) {
   int full = cut_is_grid(&c);
-  if (!full) {
-    if (c.nu < 2) c.nu = 2;
-    if (c.nv < 2) c.nv = 2;
-  }
+  if (!full) c = cut_with_strips(c);
   PatchWork w = {b, p, face, {NULL, NULL, NULL, NULL}, NULL, NULL, NULL};
   w.rows = xmalloc((size_t)(c.nu + 1) * sizeof *w.rows);
   w.wts = xmalloc((size_t)(c.nv + 1) * sizeof *w.wts);

@@ -854,9 +854,9 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, int empty, floa
 
 /* The farthest depth in rectangle [x0, x1) x [y0, y1) of rt
 ** (GBUF_NO_DEPTH if nothing is drawn at some sample of it; 0 for a
-** rectangle of no samples). Eight
-** running maxima, one per column mod 8, so the comparisons do not wait on
-** each other; the same value as one running maximum. */
+** rectangle of no samples). Eight running maxima, one per column mod 8,
+** so the comparisons do not wait on each other; the same value as one
+** running maximum. */
 static float rect_far(const RastTarget *rt, int x0, int y0, int x1, int y1) {
   float far[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   int n = x1 - x0;

@@ -13,8 +13,8 @@
 ** workers; every chunk's and tile's result depends only on the scene, so
 ** the image is byte-identical at any thread count. An 8-bit frame nothing
 ** is drawn over goes to its file a band of tile rows at a time while the
-** pass runs (RenderRows): encoding it is work the workers share. Each stage records its
-** time in the --stats table (stats.h).
+** pass runs (RenderRows): encoding it is work the workers share. Each
+** stage records its time in the --stats table (stats.h).
 **
 ** The prepared frame (RenderFrame) is public so later stages (lines, AOVs)
 ** read the same meshes, camera and lights the rasterizer used.
