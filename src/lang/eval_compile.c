@@ -647,6 +647,23 @@ static ENode *compile_for(Compiler *c, AstNode *a) {
   return e;
 }
 
+/* Whether name (interned) is, where c is, a value variable: a `let`, a
+** parameter or a loop variable (not a function, module or style). */
+static int is_variable(const Compiler *c, const char *name) {
+  for (const Scope *s = c->scope; s; s = s->parent) {
+    int i = scope_find(s, name);
+    if (i >= 0) return s->b[i].kind == B_LET || s->b[i].kind == B_PARAM || s->b[i].kind == B_LOOP;
+  }
+  return 0;
+}
+
+/* A bare word in a property that takes words is a symbol, unless the
+** property does not know the word and a variable has its name
+** (schema_knows_word); word(args) is always a symbol. */
+static int is_symbol_word(Compiler *c, const char *prop, const char *raw) {
+  return schema_knows_word(c->block_kind, c->block_word, prop, raw) || !is_variable(c, ev_intern(c->ev, raw));
+}
+
 static ENode *compile_property(Compiler *c, AstNode *a) {
   ENode *e = enode(c, S_PROP, ast_range(a));
   e->name = ev_intern(c->ev, a->name);
@@ -655,7 +672,7 @@ static ENode *compile_property(Compiler *c, AstNode *a) {
   int sym = c->block_kind && schema_wants_symbol(c->block_kind, c->block_word, a->name);
   for (int i = 0; i < e->n; i++) {
     AstNode *v = a->list.items[i];
-    if (sym && v->kind == AST_IDENT) {
+    if (sym && v->kind == AST_IDENT && is_symbol_word(c, a->name, v->name)) {
       Symbol *s = arena_alloc(c->ev->arena, sizeof *s);
       s->name = ev_intern(c->ev, v->name);
       e->kids[i] = const_node(c, val_ptr(V_SYMBOL, s), ast_range(v));

@@ -11,10 +11,12 @@
 */
 #include "schema.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef enum {
   T_NUM, T_INT, T_BOOL, T_STRING, T_COLOR, T_VEC3, T_SYMBOL, T_TRANSFORM,
@@ -26,7 +28,8 @@ enum {
   R_REQUIRED = 2,  /* the block needs it */
   R_MANY = 4,      /* takes several values (a custom converter reads them) */
   R_SYM = 8,       /* bare words in it are symbols, not names to look up */
-  R_FIRST = 16     /* converted before the others (it replaces the whole target) */
+  R_FIRST = 16,    /* converted before the others (it replaces the whole target) */
+  R_FILE = 32      /* a string naming a file (it has a `.` or a `/`) must exist */
 };
 
 /* The block being checked: where params go, and its name for messages. */
@@ -48,7 +51,7 @@ struct Row {
   double def;            /* default of numbers (NAN: none) */
   size_t off;            /* field in the target struct */
   unsigned flags;
-  const char *symbols;   /* T_SYMBOL: "a|b|c", stored as the index (an int field) */
+  const char *symbols;   /* the words it knows, "a|b|c" (T_SYMBOL: stored as the index) */
   Custom custom;
 };
 
@@ -58,6 +61,7 @@ struct Row {
 #define TYPED(n, t, S, f) {n, t, 0, 0, NAN, offsetof(S, f), 0, NULL, NULL}
 #define SYM(n, S, f, syms) {n, T_SYMBOL, 0, 0, NAN, offsetof(S, f), R_SYM, syms, NULL}
 #define CUSTOM(n, fn, flags) {n, T_CUSTOM, 0, 0, NAN, NOFIELD, flags, NULL, fn}
+#define CUSTOM_SYM(n, fn, flags, syms) {n, T_CUSTOM, 0, 0, NAN, NOFIELD, (flags) | R_SYM, syms, fn}
 #define PARAM(n, flags) {n, T_PARAM, -INFINITY, INFINITY, NAN, NOFIELD, flags, NULL, NULL}
 
 /* ---- messages ---------------------------------------------------------- */
@@ -557,7 +561,7 @@ static const Row output_rows[] = {
   CUSTOM("size", cv_size, 0),
   TYPED("background", T_COLOR, SceneOutput, background),
   INT("samples", SceneOutput, samples, 1, SCHEMA_MAX_SAMPLES, 1),
-  TYPED("sheet", T_STRING, SceneOutput, sheet),
+  {"sheet", T_STRING, 0, 0, NAN, offsetof(SceneOutput, sheet), R_FILE, NULL, NULL},
 };
 
 static const Row camera_rows[] = {
@@ -611,7 +615,7 @@ static const Row shade_origami_rows[] = {
 /* Passes whose parameters live in SceneStyle.params (scene_style_param). */
 static const Row shade_threshold_rows[] = {
   LIGHTING_ROWS,
-  PARAM("texture", R_SYM | R_REPEAT), PARAM("strength", 0), PARAM("window", 0), PARAM("clip_limit", 0),
+  PARAM("texture", R_SYM | R_REPEAT | R_FILE), PARAM("strength", 0), PARAM("window", 0), PARAM("clip_limit", 0),
   PARAM("spacing", 0), PARAM("filter_samples", 0), PARAM("noise", 0),
 };
 
@@ -627,11 +631,11 @@ static const Row shade_ink_rows[] = {
 };
 
 static const Row texture_rows[] = {
-  PARAM("texture", R_SYM), PARAM("strength", 0), PARAM("scale", 0),
+  PARAM("texture", R_SYM | R_FILE), PARAM("strength", 0), PARAM("scale", 0),
 };
 
 static const Row lines_rows[] = {
-  CUSTOM("kinds", cv_kinds, R_MANY | R_SYM),
+  CUSTOM_SYM("kinds", cv_kinds, R_MANY, "silhouette|crease|boundary|face_edges"),
   SYM("stroke", SceneLines, stroke, "plain|ribbon|brush"),
   NUM("width", SceneLines, width, 0, 1000, 1.5),
   TYPED("color", T_COLOR, SceneLines, color),
@@ -649,7 +653,7 @@ static const Row lines_rows[] = {
 
 static const Row object_rows[] = {
   {"geometry", T_GEOMETRY, 0, 0, NAN, offsetof(SceneObject, geometry), R_REQUIRED, NULL, NULL},
-  CUSTOM("tessellate", cv_tessellate, R_SYM),
+  CUSTOM_SYM("tessellate", cv_tessellate, 0, "adaptive"),
   TYPED("style", T_STYLE, SceneObject, style),
   TYPED("transform", T_TRANSFORM, SceneObject, transform),
 };
@@ -706,6 +710,36 @@ static const Schema schemas[] = {
 };
 #define NSCHEMAS ((int)(sizeof schemas / sizeof schemas[0]))
 
+/* ---- placeholders ------------------------------------------------------- */
+
+/* What the renderer does not draw yet: each use warns, where it is written,
+** what is drawn instead. One row per pass or property (word: the shading
+** model, or the property of kind); a row goes when its stage lands. */
+static const struct { const char *kind, *word, *instead; } placeholders[] = {
+  {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
+  {"shade", "bokashi", "`shade bokashi` is not drawn yet: the object is shaded as `shade phong`"},
+  {"shade", "ink", "`shade ink` is not drawn yet: the object is shaded as `shade phong`"},
+  {"noise", NULL, "`noise` is not drawn yet: the object is drawn without it"},
+  {"pattern", NULL, "`pattern` is not drawn yet: the object is drawn without it"},
+  {"output", "sheet", "`sheet` is not drawn yet: the background colour shows instead"},
+};
+
+/* Warn at `at` when kind (with word, or NULL) is a placeholder. */
+static void placeholder(Ctx *c, const char *kind, const char *word, SrcRange at) {
+  for (size_t i = 0; i < sizeof placeholders / sizeof placeholders[0]; i++)
+    if (!strcmp(placeholders[i].kind, kind) &&
+        (placeholders[i].word ? word && !strcmp(placeholders[i].word, word) : !word))
+      diag_warning(at, "%s", placeholders[i].instead);
+}
+
+/* The kind word of block b (for a caret under it). */
+static SrcRange kind_range(const BlockVal *b) {
+  SrcRange r = b->loc;
+  r.end_line = r.line;
+  r.end_col = r.col + (int)strlen(b->kind);
+  return r;
+}
+
 /* ---- lookup --------------------------------------------------------------- */
 
 static const Schema *find_schema(const char *kind, const char *word) {
@@ -735,6 +769,16 @@ int schema_wants_symbol(const char *kind, const char *word, const char *prop) {
   return r && (r->flags & R_SYM);
 }
 
+int schema_knows_word(const char *kind, const char *word, const char *prop, const char *name) {
+  const Schema *s = find_schema(kind, word);
+  const Row *r = s ? find_row(s, prop) : NULL;
+  if (!r || !r->symbols) return 0;
+  size_t n = strlen(name);
+  for (const char *w = r->symbols; w; w = strchr(w, '|'), w = w ? w + 1 : NULL)
+    if (!strncmp(w, name, n) && (w[n] == '|' || w[n] == 0)) return 1;
+  return 0;
+}
+
 /* ---- checking ----------------------------------------------------------- */
 
 static void apply_defaults(const Schema *s, void *target) {
@@ -755,6 +799,22 @@ static void unknown_prop(Ctx *c, const Schema *s, const Prop *p) {
   else ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`", p->name, c->what);
 }
 
+/* An R_FILE property's string that names a file (it has a `.` or a `/`;
+** other words are built-in names), relative to the folder of the file
+** that wrote it: it must exist. Nonzero when reported. */
+static int missing_file(Ctx *c, const Prop *p) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_STR || !strpbrk(v->u.s->s, "./")) return 0;
+  const SrcFile *f = p->loc.file >= 0 ? diag_file(p->loc.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  char path[4096];
+  if (v->u.s->s[0] == '/' || !slash) snprintf(path, sizeof path, "%s", v->u.s->s);
+  else snprintf(path, sizeof path, "%.*s/%s", (int)(slash - f->name), f->name, v->u.s->s);
+  if (access(path, R_OK) == 0) return 0;
+  ev_error(c->ev, p->vloc[0], "`%s` in `%s`: cannot read `%s`: %s", p->name, c->what, v->u.s->s, strerror(errno));
+  return 1;
+}
+
 /* One property: known, not repeated (unless it may be), one value (unless
 ** it takes several), then converted. Nonzero when reported. */
 static int check_prop(Ctx *c, const Schema *s, const BlockVal *b, int i, const Row *r, void *target) {
@@ -773,7 +833,10 @@ static int check_prop(Ctx *c, const Schema *s, const BlockVal *b, int i, const R
     else ev_error(c->ev, p->vloc[1], "`%s` in `%s` takes one value; found %d", p->name, c->what, p->n);
     return 1;
   }
-  return convert(c, p, r, target) != 0;
+  if ((r->flags & R_FILE) && missing_file(c, p)) return 1;
+  if (convert(c, p, r, target) != 0) return 1;
+  placeholder(c, c->what, p->name, name_range(p));
+  return 0;
 }
 
 /* Check every property of b against s and convert it into target. */
@@ -865,6 +928,7 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   }
   if (b->nwords > 2) return check_words(c, s, b);
   sh->loc = b->loc;
+  placeholder(c, "shade", b->words[0], b->wordloc[0]);
   apply_defaults(s, sh);
   snprintf(c->what, sizeof c->what, "shade %s", b->words[0]);
   c->pass = "shade";
@@ -894,6 +958,7 @@ static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
     st->lines.loc = sub->loc;
     return check_props(&sc, s, sub, &st->lines);
   }
+  placeholder(c, sub->kind, NULL, kind_range(sub));
   return check_props(&sc, s, sub, st);
 }
 

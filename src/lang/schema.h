@@ -19,6 +19,11 @@
 
 int schema_emit(Eval *ev, BlockVal *b);
 int schema_wants_symbol(const char *kind, const char *word, const char *prop);
+/* Whether name is one of the words property prop of block kind (word: its
+** sub-kind) knows. A bare word there that it does not know and that names
+** a variable in scope is that variable's value, so `let m = "line"; mode
+** m;` works and -D can switch a mode. */
+int schema_knows_word(const char *kind, const char *word, const char *prop, const char *name);
 int schema_known_kind(const char *kind);
 
 #endif
