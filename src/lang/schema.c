@@ -994,8 +994,8 @@ static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
   o.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
   o.transform = m4_identity();
   o.style = -1;
-  o.tess_kind = TESS_UNIFORM;
-  o.tess_n = 8;
+  o.tess_kind = TESS_ADAPTIVE;
+  o.tess_px = SCENE_DEFAULT_TESS_PX;
   o.loc = b->loc;
   if (check_props(c, s, b, &o) || no_subs(c, b)) return -1;
   sc->objects = grow(c, sc->objects, sc->nobjects, sizeof *sc->objects);

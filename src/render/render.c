@@ -275,15 +275,23 @@ static int can_cull_back(const RenderObject *o, const Camera *c) {
   return 1;
 }
 
+static int is_adaptive_patches(const SceneObject *so) {
+  return so->tess_kind == TESS_ADAPTIVE && so->geometry && so->geometry->kind == GEOM_PATCHES;
+}
+
 /* Tessellate o's patches or polygons for f's camera (thread-safe: one
-** object, no diagnostics). */
-static void tessellate_object(const RenderFrame *f, RenderObject *o) {
+** object, no diagnostics). With fit, the mesh only frames an automatic
+** camera and is made again for the framed view (retessellate_adaptive):
+** adaptive patches are then cut uniformly, which frames them as well for
+** a fraction of the work. */
+static void tessellate_object(const RenderFrame *f, RenderObject *o, int fit) {
   const SceneObject *so = o->src;
   const SceneGeometry *g = so->geometry;
   Mat4 to_clip = m4_mul(f->camera.world_to_clip, so->transform);
   int n = so->tess_n > 0 ? so->tess_n : RENDER_DEFAULT_TESS;
-  o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
-              : mesh_create(0, 0);
+  if (fit && is_adaptive_patches(so)) o->mesh = tess_uniform(g, RENDER_DEFAULT_TESS);
+  else o->mesh = g ? tess_geometry(g, so->tess_kind, n, so->tess_px, &to_clip, f->width, f->height)
+                   : mesh_create(0, 0);
   object_to_world(o);
 }
 
@@ -315,11 +323,12 @@ static int is_subdiv(const SceneGeometry *g) {
 typedef struct TessJob {
   const RenderFrame *f;
   int *todo;
+  int fit;                     /* the meshes frame an automatic camera first */
 } TessJob;
 
 static void tess_task(void *ctx, int k) {
   TessJob *job = ctx;
-  tessellate_object(job->f, &job->f->objects[job->todo[k]]);
+  tessellate_object(job->f, &job->f->objects[job->todo[k]], job->fit);
 }
 
 /* Triangles a uniform or polygon object will make (0 for the others). */
@@ -347,7 +356,7 @@ static int check_triangles(const Scene *s) {
   return 1;
 }
 
-static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads) {
+static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads, int fit) {
   int ok = 1, ntodo = 0;
   f->nobjects = s->nobjects;
   f->objects = xcalloc((size_t)s->nobjects + 1, sizeof *f->objects);
@@ -361,28 +370,26 @@ static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads) {
     if (is_subdiv(so->geometry)) ok &= subdivide_object(o);   /* in order, on this thread */
     else todo[ntodo++] = i;
   }
-  TessJob job = {f, todo};
+  TessJob job = {f, todo, fit};
   parallel_tasks(ntodo, nthreads, tess_task, &job);
   free(todo);
   for (int i = 0; i < f->nobjects; i++) f->ntriangles += f->objects[i].mesh->ntris;
   return ok;
 }
 
-/* Adaptive tessellation measured its pixels with the camera that framed
-** the control boxes; after refitting, tessellate those objects again so
-** the tolerance holds in the final view. */
+/* Adaptive patches were cut uniformly to frame the camera; now that it is
+** framed, tessellate them for the final view, where the tolerance holds. */
 static void retessellate_adaptive(RenderFrame *f) {
   for (int i = 0; i < f->nobjects; i++) {
     RenderObject *o = &f->objects[i];
-    const SceneGeometry *g = o->src->geometry;
-    if (o->src->tess_kind != TESS_ADAPTIVE || !g || g->kind != GEOM_PATCHES) continue;
+    if (!is_adaptive_patches(o->src)) continue;
     f->ntriangles -= o->mesh->ntris;
     mesh_destroy(o->mesh);
     free(o->wpos);
     free(o->wnrm);
     free(o->wcnrm);
     o->wcnrm = NULL;
-    tessellate_object(f, o);
+    tessellate_object(f, o, 0);
     f->ntriangles += o->mesh->ntris;
   }
 }
@@ -438,10 +445,11 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   prepare_styles(s, f);
   if (!check_triangles(s)) return 0;
   double t1 = stats_now();
-  int ok = prepare_objects(s, f, thread_count(o));
+  int refit = !s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE;
+  int ok = prepare_objects(s, f, thread_count(o), refit);
   double t2 = stats_now();
   double retess = 0;
-  if (!s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE) {
+  if (refit) {
     refit_camera(s, f);
     double t3 = stats_now();
     retessellate_adaptive(f);

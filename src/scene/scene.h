@@ -134,6 +134,13 @@ typedef struct ScenePatch {
 
 typedef enum { TESS_UNIFORM, TESS_ADAPTIVE } TessKind;
 
+/* An object that says nothing is tessellated adaptive(1): patches are cut
+** until the tessellator's bound on their deviation from the surface is 1
+** pixel of the frame (a conservative bound: a sphere filling the frame
+** strays 0.4 px at most), so a patch gets the triangles its size on
+** screen needs and no more. */
+#define SCENE_DEFAULT_TESS_PX 1.0
+
 typedef struct SceneGeometry {
   GeomKind kind;
   int npatches;

@@ -6,8 +6,13 @@
 #define tests_render_scenes_h
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "../../src/base/mem.h"
+#include "../../src/lang/diag.h"
+#include "../../src/lang/eval.h"
+#include "../../src/lang/parse.h"
 #include "../../src/scene/scene.h"
 
 /* A closed polygon mesh: an n x m latitude-longitude sphere of radius r
@@ -47,6 +52,28 @@ static inline SceneGeometry *sphere_geometry(Arena *a, Vec3 c, double r, int n, 
   g->nfaces = f;
   g->face_start[f] = k;
   return g;
+}
+
+/* Evaluate scene text (the language's own defaults apply; stdlib/ is
+** found from the repository root, where the unit tests run) into *s,
+** scene_init'ed here; ast holds the syntax tree. Returns 1, or 0 after
+** the diagnostics were printed. */
+static inline int scene_from_text(Scene *s, Arena *ast, const char *text) {
+  static int diag_ready;
+  if (!diag_ready) { diag_init(DIAG_TEXT); diag_ready = 1; }
+  size_t n = strlen(text);
+  char *copy = malloc(n + 1);
+  memcpy(copy, text, n + 1);
+  int file = diag_add_file("test.npr", copy, n, -1, src_none());
+  arena_init(ast);
+  scene_init(s);
+  int errors = diag_error_count();
+  AstNode *prog = parse_file(file, ast);
+  if (!prog || diag_error_count() > errors) return 0;
+  EvalOptions eo;
+  eval_options_init(&eo);
+  eo.stdlib_dir = "stdlib";
+  return eval_program(prog, file, ast, &eo, s) == 0;
 }
 
 #endif

@@ -11,6 +11,8 @@
 
 #include "../../src/geom/patch.h"
 #include "../../src/geom/tessellate.h"
+#include "../../src/render/render.h"
+#include "render_scenes.h"
 #include "teapot_npr.h"
 #include "unit.h"
 
@@ -634,6 +636,53 @@ TEST(geometry_dispatch) {
   mesh_destroy(a);
 }
 
+/* The largest distance, in pixels of a width x height frame, between the
+** unit sphere and the mesh a sphere object without `tessellate` gets when
+** it fills the frame's height (camera 4 units away, fov 30): its edge
+** midpoints and triangle centroids, where a flat cell strays furthest
+** from the surface, and the triangle count. */
+static double default_sphere_error(int width, int height, int *ntris) {
+  Scene s;
+  Arena ast;
+  double err = -1;
+  *ntris = 0;
+  if (!scene_from_text(&s, &ast, "include \"shapes.npr\";\n"
+                                 "camera { position [0, -4, 0]; look_at [0, 0, 0]; fov 30; }\n"
+                                 "object { geometry sphere(1); }\n"))
+    return err;
+  RenderOptions o = {.width = width, .height = height, .threads = 1};
+  RenderFrame f;
+  if (render_prepare(&s, &o, &f)) {
+    const Mesh *m = f.objects[0].mesh;
+    /* a world unit on the silhouette, sqrt(4^2 - 1) away, in pixels */
+    double px = height / 2.0 / tan(15 * M_PI / 180) / sqrt(15);
+    err = 0;
+    for (int t = 0; t < m->ntris; t++) {
+      Vec3 a = m->pos[m->tri[t][0]], b = m->pos[m->tri[t][1]], c = m->pos[m->tri[t][2]];
+      Vec3 probe[4] = {v3_mul(v3_add(a, b), 0.5), v3_mul(v3_add(b, c), 0.5), v3_mul(v3_add(c, a), 0.5),
+                       v3_mul(v3_add(v3_add(a, b), c), 1.0 / 3)};
+      for (int k = 0; k < 4; k++) err = fmax(err, (1 - v3_len(probe[k])) * px);
+    }
+    *ntris = m->ntris;
+  }
+  render_frame_free(&f);
+  scene_free(&s);
+  arena_free(&ast);
+  return err;
+}
+
+/* Without `tessellate`, a sphere filling the frame is cut to its size on
+** screen: within half a pixel of the true surface (it was 8 segments a
+** patch, ~2 px at 640 x 480), and more finely in a larger frame. */
+TEST(default_follows_the_screen) {
+  int small, large;
+  double e_small = default_sphere_error(640, 480, &small);
+  double e_large = default_sphere_error(1280, 960, &large);
+  CHECK(e_small >= 0 && e_small < 0.5);
+  CHECK(e_large >= 0 && e_large < 0.5);
+  CHECK(large > small);
+}
+
 int main(void) {
   RUN(uniform_grid_counts);
   RUN(uniform_welds_shared_border);
@@ -646,5 +695,6 @@ int main(void) {
   RUN(polygons_cube);
   RUN(polygons_concave_and_bad);
   RUN(geometry_dispatch);
+  RUN(default_follows_the_screen);
   return unit_done();
 }
