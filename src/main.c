@@ -16,6 +16,8 @@
 
 #include "base/mem.h"
 #include "geom/origami.h"
+#include "geom/origami_layers.h"
+#include "io/fold.h"
 #include "geom/refine.h"
 #include "lang/ast.h"
 #include "lang/diag.h"
@@ -39,6 +41,9 @@ typedef struct Options {
   const char **defines; int ndefines;
   const char **include_dirs; int ninclude_dirs;
   long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
+  int count;        /* sumi fold: --count, --limit N, --state K, --export FILE */
+  long limit, state;
+  const char *export_path;
   DiagFormat diag_format;
 } Options;
 
@@ -57,6 +62,10 @@ static void usage(FILE *out) {
     "  parse FILE [--ast]   parse only; --ast prints the syntax tree\n"
     "  eval FILE --scene    print the evaluated scene as text\n"
     "  faces FILE           list the faces of every origami block\n"
+    "  fold FILE            find the flat-folded states of a crease pattern (.fold,\n"
+    "                       .opx, .cp): print its components; --count counts each\n"
+    "                       one's states (up to --limit N, default 10000); --export\n"
+    "                       OUT.fold writes state --state K (default 0) with faceOrders\n"
     "  refine FILE --compare  compare our tessellation with OpenSubdiv's limit surface\n"
     "  watch FILE -o OUT    render, then render again whenever the scene or a file it\n"
     "                       includes changes (Ctrl-C stops)\n"
@@ -128,6 +137,10 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
     else if (!strcmp(a, "--frames")) { NEED_VALUE(); o->frames = v; }
     else if (!strcmp(a, "--aov")) { NEED_VALUE(); o->aov = v; }
+    else if (!strcmp(a, "--count")) o->count = 1;
+    else if (!strcmp(a, "--limit")) { NEED_VALUE(); o->limit = parse_int_arg(a, v, 1, 1000000000); }
+    else if (!strcmp(a, "--state")) { NEED_VALUE(); o->state = parse_int_arg(a, v, 0, 2000000000); }
+    else if (!strcmp(a, "--export")) { NEED_VALUE(); o->export_path = v; }
     else if (!strcmp(a, "--diagnostics")) {
       NEED_VALUE();
       if (!strcmp(v, "json")) fmt = DIAG_JSON;
@@ -251,6 +264,61 @@ static int cmd_faces(const Options *o) {
   int status = evaluate(o, &arena, &scene);
   if (status == 0) status = origami_list_scene(&scene, stdout);
   scene_free(&scene);
+  arena_free(&arena);
+  return status;
+}
+
+/* sumi fold FILE: the crease pattern's layer orders (geom/origami_layers.h). */
+static int cmd_fold(const Options *o) {
+  Arena arena;
+  arena_init(&arena);
+  SceneOrigami src;
+  char err[512] = "";
+  int status = 1;
+  memset(&src, 0, sizeof src);
+  if (fold_read(o->input, &src, &arena, err, sizeof err) != 0) {
+    fprintf(stderr, "sumi: %s\n", err);
+    arena_free(&arena);
+    return 1;
+  }
+  const char *why;
+  src.loc = src_none();
+  src.loc.file = diag_load_file(o->input, -1, src_none(), &why);
+  src.loc.line = src.loc.col = src.loc.end_line = 1, src.loc.end_col = 2;
+  src.overlap_auto = 1;
+  OrigamiModel *m = origami_build_folded(&src);
+  OrigamiLayers l;
+  LayerSolver *s = NULL;
+  if (m) {
+    origami_layers_init(m, &l);
+    s = layer_new(&l.in, err, sizeof err);
+    if (!s) diag_error(m->loc, "no layer order: %s", err);
+    else if (layer_conflict(s)) origami_layers_report(m, &l, layer_conflict(s));
+    else status = origami_layers_print(stdout, m, &l, s, o->count, o->limit ? o->limit : ORIGAMI_STATE_LIMIT);
+  }
+  if (status == 0 && o->export_path) {
+    double total;
+    long n = 0;
+    if (!origami_layers_pick(s, o->state, o->limit ? o->limit : ORIGAMI_STATE_LIMIT, &total)) {
+      fprintf(stderr, "sumi: state %ld does not exist: there are %.0f\n", o->state, total);
+      status = 1;
+    } else {
+      origami_layers_apply(m, &l, s);
+      int (*orders)[2] = origami_layers_orders(s, &n);
+      FoldState st = {NULL, m->nverts, m->folded, l.in.nedges, l.in.edge_verts, l.assign, m->nfaces,
+                      m->face_start, m->face_index, m->flipped, n, (const int (*)[2])orders};
+      for (int e = 0; e < l.in.nedges; e++)           /* solved U creases */
+        if (l.edge_crease[e] >= 0) l.assign[e] = m->creases[l.edge_crease[e]].assignment;
+      if (fold_write_state(o->export_path, &st, err, sizeof err)) {
+        fprintf(stderr, "sumi: %s\n", err);
+        status = 1;
+      }
+      free(orders);
+    }
+  }
+  if (m) origami_layers_free(&l);
+  layer_free(s);
+  origami_free(m);
   arena_free(&arena);
   return status;
 }
@@ -482,6 +550,7 @@ static const Command commands[] = {
   {"parse", cmd_parse, 0},
   {"check", cmd_check, 0},
   {"faces", cmd_faces, 0},
+  {"fold", cmd_fold, 0},
   {"eval", cmd_eval, 0},
   {"refine", cmd_refine, 0},
   {"render", cmd_render, 1},

@@ -14,8 +14,15 @@
 #include <string.h>
 
 #include "../base/mem.h"
+#include "origami_layers.h"
 
 #define PI 3.14159265358979323846
+
+/* Real crease patterns (drawn in ORIPA and the like, for the solver) are
+** off by up to ~1e-4 rad at a vertex; a pattern written out by hand or by a
+** script is exact. */
+#define KAWASAKI_TOL 1e-6
+#define KAWASAKI_TOL_SOLVER 1e-2
 
 /* ---- plane maps -------------------------------------------------------- */
 
@@ -684,14 +691,14 @@ int origami_reflect(int nverts, const Vec2 *from, int nfaces, const int *face_st
   return nbad;
 }
 
-typedef struct FoldUser { const OrigamiModel *m; const EdgeKey *ct; int nct; } FoldUser;
+typedef struct FoldUser { const OrigamiModel *m; const EdgeKey *ct; int nct, fold_u; } FoldUser;
 
 static int fold_by_crease(void *user, int fa, int fb, int u, int v) {
   const FoldUser *fu = user;
   int e = edge_find(fu->ct, fu->nct, edge_key(u, v));
   if (e < 0) return 0;
   char a = fu->m->creases[fu->ct[e].val].assignment;
-  return a == 'M' || a == 'V';
+  return a == 'M' || a == 'V' || (a == 'U' && fu->fold_u);
 }
 
 /* Fit the affine map taking face f's paper corners to its folded ones;
@@ -786,7 +793,7 @@ static int fold_given(Build *b) {
 static int fold_reflect(Build *b) {
   OrigamiModel *m = b->m;
   int ok = 1;
-  for (int i = 0; i < m->ncreases; i++)
+  for (int i = 0; i < m->ncreases && !b->src->overlap_auto; i++)
     if (m->creases[i].assignment == 'U') {
       diag_error(at(b, m->creases[i].loc), "crease %d-%d is unassigned (U): give M, V or F, or "
                  "the folded positions", m->creases[i].a, m->creases[i].b);
@@ -796,10 +803,11 @@ static int fold_reflect(Build *b) {
   EdgeKey *ct = xmalloc((size_t)(m->ncreases ? m->ncreases : 1) * sizeof *ct);
   for (int i = 0; i < m->ncreases; i++) ct[i].key = edge_key(m->creases[i].a, m->creases[i].b), ct[i].val = i;
   sort_n(ct, (size_t)m->ncreases, sizeof *ct, cmp_edgekey);
-  FoldUser fu = {m, ct, m->ncreases};
+  FoldUser fu = {m, ct, m->ncreases, b->src->overlap_auto};
   int bad = -1;
   int nbad = origami_reflect(m->nverts, m->paper, m->nfaces, m->face_start, m->face_index, b->src->fixed,
-                             fold_by_crease, &fu, 1e-7 * b->size, m->folded, m->face_xf, &bad);
+                             fold_by_crease, &fu, (b->src->overlap_auto ? 1e-3 : 1e-7) * b->size,
+                             m->folded, m->face_xf, &bad);
   free(ct);
   if (nbad > 0) {
     diag_error(vert_at(b, bad), "the crease pattern does not fold flat: reflecting faces across "
@@ -1111,11 +1119,39 @@ static void infer_orders(OrigamiModel *m) {
   free(ov);
 }
 
+/* `overlap auto`: the relation of the solver's state K (layer_solve.h). */
+static int solve_relation(Build *b) {
+  OrigamiModel *m = b->m;
+  OrigamiLayers l;
+  origami_layers_init(m, &l);
+  char err[256];
+  LayerSolver *s = layer_new(&l.in, err, sizeof err);
+  int ok = s != NULL;
+  if (!s) diag_error(b->src->loc, "no layer order: %s", err);
+  else if (layer_conflict(s)) {
+    origami_layers_report(m, &l, layer_conflict(s));
+    ok = 0;
+  } else {
+    double total;
+    long k = b->src->state;
+    if (!origami_layers_pick(s, k, ORIGAMI_STATE_LIMIT, &total)) {
+      if (layer_conflict(s)) origami_layers_report(m, &l, layer_conflict(s));
+      else diag_error(at(b, b->src->state_loc), "state %ld does not exist: the crease pattern has %.0f "
+                      "valid states (each component counted up to %d)", k, total, ORIGAMI_STATE_LIMIT);
+      ok = 0;
+    } else ok = origami_layers_apply(m, &l, s);
+  }
+  layer_free(s);
+  origami_layers_free(&l);
+  return ok;
+}
+
 static int build_relation(Build *b) {
   OrigamiModel *m = b->m;
   int n = m->nfaces, ok = 1;
   m->row_words = (n + 63) / 64;
   m->above = xcalloc((size_t)n * (size_t)m->row_words, sizeof *m->above);
+  if (b->src->overlap_auto) return solve_relation(b);
   if (!read_orders(b)) ok = 0;
   sort_n(b->orders, (size_t)b->norders, sizeof *b->orders, cmp_order);
   for (int k = 0; k < b->norders; k++) {                     /* contradictions among them */
@@ -1264,6 +1300,10 @@ static void report_kawasaki(const Build *b, int v, double even, double odd) {
              even * 180 / PI, odd * 180 / PI);
 }
 
+static double kawasaki_tol(const Build *b) {
+  return b->src->overlap_auto ? KAWASAKI_TOL_SOLVER : KAWASAKI_TOL;
+}
+
 /* Kawasaki (alternate angles sum to 180°) and Maekawa (|M - V| = 2) at
 ** every interior vertex with folds, from the crease directions on the
 ** paper. Run before folding from the paper, which needs both. */
@@ -1301,7 +1341,7 @@ static void check_vertices_paper(Build *b) {
       if (k % 2) odd += sector;
       else even += sector;
     }
-    if (fabs(even - odd) > 1e-6) report_kawasaki(b, v, even, odd);
+    if (fabs(even - odd) > kawasaki_tol(b)) report_kawasaki(b, v, even, odd);
   }
   free(fill);
   free(sp);
@@ -1411,7 +1451,8 @@ static void fold_bounds(OrigamiModel *m) {
   if (m->nfaces == 0) m->fold_min = m->fold_max = (Vec2){0, 0};
 }
 
-OrigamiModel *origami_build(const SceneOrigami *src, int check) {
+/* The model up to its folded state; with relation, also the overlap relation. */
+static OrigamiModel *build(const SceneOrigami *src, int check, int relation) {
   int errors0 = diag_error_count();
   OrigamiModel *m = xcalloc(1, sizeof *m);
   Build b = {.src = src, .m = m};
@@ -1456,7 +1497,11 @@ OrigamiModel *origami_build(const SceneOrigami *src, int check) {
   if (ok) ok = fold(&b);
   if (ok) {
     fold_bounds(m);
-    ok = build_relation(&b);
+    if (relation) ok = build_relation(&b);
+    else {
+      m->row_words = (m->nfaces + 63) / 64;
+      m->above = xcalloc((size_t)m->nfaces * (size_t)m->row_words, sizeof *m->above);
+    }
   }
   if (ok && check) {
     check_orders(&b);
@@ -1471,6 +1516,10 @@ OrigamiModel *origami_build(const SceneOrigami *src, int check) {
   }
   return m;
 }
+
+OrigamiModel *origami_build(const SceneOrigami *src, int check) { return build(src, check, 1); }
+
+OrigamiModel *origami_build_folded(const SceneOrigami *src) { return build(src, 0, 0); }
 
 void origami_free(OrigamiModel *m) {
   if (!m) return;

@@ -35,6 +35,8 @@
 #define ORIGAMI_MAX_FACES 16384
 #define ORIGAMI_MAX_VERTS 65536
 #define ORIGAMI_MAX_CREASES 200000
+/* `state K` counts each component's states up to this many to find state K. */
+#define ORIGAMI_STATE_LIMIT 10000
 
 /* An affine map of the plane: x' = a[0] x + a[1] y + a[2],
 **                             y' = a[3] x + a[4] y + a[5]. */
@@ -80,6 +82,10 @@ static inline int origami_is_above(const OrigamiModel *m, int i, int j) {
 ** least one error. */
 OrigamiModel *origami_build(const SceneOrigami *src, int check);
 void origami_free(OrigamiModel *m);
+
+/* The same up to the folded state, with an empty relation (for the layer
+** solver to fill: origami_layers.h); U creases fold. */
+OrigamiModel *origami_build_folded(const SceneOrigami *src);
 
 /* One pair of faces whose folded images overlap with positive area. */
 typedef struct OrigamiOverlap { int i, j; double area; } OrigamiOverlap;

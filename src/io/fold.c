@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../geom/origami.h"
 
@@ -459,4 +460,54 @@ static int read_file(const char *path, SceneOrigami *out, Arena *arena, char *er
 
 int fold_read(const char *path, SceneOrigami *out, Arena *arena, char *err, size_t errlen) {
   return read_file(path, out, arena, err, errlen) ? 0 : 1;
+}
+
+/* ---- writing a folded state ---------------------------------------------- */
+
+static cJSON *int_pair(int a, int b) {
+  int v[2] = {a, b};
+  return cJSON_CreateIntArray(v, 2);
+}
+
+int fold_write_state(const char *path, const FoldState *st, char *err, size_t errlen) {
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddNumberToObject(root, "file_spec", 1.1);
+  cJSON_AddStringToObject(root, "file_creator", "sumi");
+  if (st->title) cJSON_AddStringToObject(root, "file_title", st->title);
+  cJSON_AddItemToObject(root, "file_classes", cJSON_CreateStringArray((const char *[]){"singleModel"}, 1));
+  cJSON_AddItemToObject(root, "frame_classes", cJSON_CreateStringArray((const char *[]){"foldedForm"}, 1));
+  cJSON *vc = cJSON_AddArrayToObject(root, "vertices_coords");
+  for (int v = 0; v < st->nverts; v++) {
+    double p[2] = {st->coords[v].x, st->coords[v].y};
+    cJSON_AddItemToArray(vc, cJSON_CreateDoubleArray(p, 2));
+  }
+  cJSON *ev = cJSON_AddArrayToObject(root, "edges_vertices"), *ea = cJSON_AddArrayToObject(root, "edges_assignment");
+  for (int e = 0; e < st->nedges; e++) {
+    char a[2] = {st->assign[e], 0};
+    cJSON_AddItemToArray(ev, int_pair(st->edge_verts[e][0], st->edge_verts[e][1]));
+    cJSON_AddItemToArray(ea, cJSON_CreateString(a));
+  }
+  cJSON *fv = cJSON_AddArrayToObject(root, "faces_vertices");
+  for (int f = 0; f < st->nfaces; f++)
+    cJSON_AddItemToArray(fv, cJSON_CreateIntArray(st->face_index + st->face_start[f],
+                                                  st->face_start[f + 1] - st->face_start[f]));
+  cJSON *fo = cJSON_AddArrayToObject(root, "faceOrders");
+  for (long k = 0; k < st->norders; k++) {
+    int f = st->orders[k][0], g = st->orders[k][1], o[3] = {f, g, st->flipped[g] ? -1 : 1};
+    cJSON_AddItemToArray(fo, cJSON_CreateIntArray(o, 3));
+  }
+  char *text = cJSON_Print(root);
+  cJSON_Delete(root);
+  char tmp[4096];
+  snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+  FILE *f = fopen(tmp, "w");
+  int bad = !f || fputs(text, f) < 0 || fputc('\n', f) < 0;
+  if (f && fclose(f) != 0) bad = 1;
+  if (!bad && rename(tmp, path) != 0) bad = 1;
+  if (bad) {
+    snprintf(err, errlen, "%s: cannot write: %s", path, strerror(errno));
+    remove(tmp);
+  }
+  free(text);
+  return bad;
 }

@@ -34,4 +34,26 @@
 **   "x.fold: edges_vertices[3]: vertex 12 does not exist (4 vertices)". */
 int fold_read(const char *path, SceneOrigami *out, Arena *arena, char *err, size_t errlen);
 
+/* A flat-folded state as FOLD 1.1 (what Flat-Folder's "state" export
+** holds): vertices_coords are the folded positions, frame_classes
+** ["foldedForm"], and faceOrders [f, g, s] for each overlapping pair with
+** f over g seen from +z (s = +1 when g shows its front to +z, else -1).
+** Written to a temporary name and renamed. Returns 0, or nonzero with a
+** message in err. */
+typedef struct FoldState {
+  const char *title;
+  int nverts;
+  const Vec2 *coords;
+  int nedges;
+  const int (*edge_verts)[2];
+  const char *assign;
+  int nfaces;
+  const int *face_start, *face_index;
+  const unsigned char *flipped;
+  long norders;
+  const int (*orders)[2];        /* [upper, lower] */
+} FoldState;
+
+int fold_write_state(const char *path, const FoldState *st, char *err, size_t errlen);
+
 #endif

@@ -211,6 +211,9 @@ typedef struct SceneOrigami {
   int noverlap;               /* rows of the full matrix, 0 if not given */
   const char **overlap;       /* "-UL" strings, one per face */
   SrcRange overlap_loc;
+  int overlap_auto;           /* `overlap auto`: the layer-order solver finds the relation */
+  long state;                 /* with overlap_auto: which of its states (0 = the first found) */
+  SrcRange state_loc;
   const char *fold_file;      /* the FOLD file it came from, or NULL */
   Mat4 transform;
   int style;                  /* index into Scene.styles, -1 = default */
