@@ -490,6 +490,7 @@ static int cv_paper(Ctx *c, const Prop *p, const Row *r, void *t) {
   int style = o->style;
   SrcRange loc = o->loc;
   *o = *src;
+  o->state_loc = src_none();      /* `overlap` and `state` come after `paper` */
   o->name = name;
   o->transform = m;
   o->style = style;
@@ -536,10 +537,16 @@ static int cv_above(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* overlap auto; | overlap ["-UL", ...]; */
 static int cv_overlap(Ctx *c, const Prop *p, const Row *r, void *t) {
   SceneOrigami *o = t;
   const Value *v = &p->v[0];
-  if (v->kind != V_LIST) return expect(c, p, 0, "a list of strings of `-`, `U` and `L`");
+  if (v->kind == V_SYMBOL && strcmp(v->u.sym->name, "auto") == 0 && !v->u.sym->args) {
+    o->overlap_auto = 1;
+    o->overlap_loc = p->loc;
+    return 0;
+  }
+  if (v->kind != V_LIST) return expect(c, p, 0, "`auto` or a list of strings of `-`, `U` and `L`");
   int n = v->u.l->n;
   o->overlap = arena_alloc(&c->ev->scene->arena, (size_t)(n + 1) * sizeof *o->overlap);
   for (int k = 0; k < n; k++) {
@@ -552,6 +559,17 @@ static int cv_overlap(Ctx *c, const Prop *p, const Row *r, void *t) {
   }
   o->noverlap = n;
   o->overlap_loc = p->loc;
+  return 0;
+}
+
+/* state K; — which of the solver's states `overlap auto` renders. */
+static int cv_state(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOrigami *o = t;
+  Row num = {"state", T_INT, 0, 2e9, NAN, 0, 0, NULL, NULL};
+  double n;
+  if (to_number(c, p, 0, &num, &n)) return -1;
+  o->state = (long)n;
+  o->state_loc = p->loc;
   return 0;
 }
 
@@ -663,7 +681,8 @@ static const Row origami_rows[] = {
   CUSTOM("folded", cv_folded, 0),
   INT("fixed", SceneOrigami, fixed, 0, INFINITY, 0),
   CUSTOM("above", cv_above, R_REPEAT),
-  CUSTOM("overlap", cv_overlap, 0),
+  CUSTOM("overlap", cv_overlap, R_SYM),
+  CUSTOM("state", cv_state, 0),
   TYPED("style", T_STYLE, SceneOrigami, style),
   TYPED("transform", T_TRANSFORM, SceneOrigami, transform),
 };
@@ -1017,6 +1036,14 @@ static int check_origami(Ctx *c, SceneOrigami *o, const BlockVal *b) {
     ev_error(c->ev, b->loc, "`fixed` face %d does not exist (the paper has %d faces)", o->fixed, o->nfaces);
     return -1;
   }
+  if (o->state_loc.file >= 0 && !o->overlap_auto) {
+    ev_error(c->ev, o->state_loc, "`state` picks one of the solver's states: it needs `overlap auto`");
+    return -1;
+  }
+  if (o->overlap_auto && o->nabove) {
+    ev_error(c->ev, o->above[0].loc, "`above` and `overlap auto` cannot be combined: the solver finds every order");
+    return -1;
+  }
   return 0;
 }
 
@@ -1027,7 +1054,7 @@ static int emit_origami(Ctx *c, const Schema *s, const BlockVal *b) {
   o.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
   o.transform = m4_identity();
   o.style = -1;
-  o.overlap_loc = src_none();
+  o.overlap_loc = o.state_loc = src_none();
   o.loc = b->loc;
   int bad = 0;
   for (int i = 0; i < b->nsubs; i++) {
