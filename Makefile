@@ -103,7 +103,7 @@ update-golden: all $(TOOLS)
 	@BUILD=$(BUILD) UPDATE_GOLDEN=1 sh tests/run.sh
 
 FUZZ_SECONDS ?= 60
-FUZZ_C := src/lang/lex.c src/lang/parse.c src/lang/ast.c src/lang/diag.c src/base/mem.c
+FUZZ_C := src/lang/lex.c src/lang/parse.c src/lang/ast.c src/lang/diag.c src/lang/habits.c src/base/mem.c
 fuzz:
 	@mkdir -p build/fuzz/corpus
 	clang -std=c11 -D_DEFAULT_SOURCE -g -O1 -fsanitize=fuzzer,address,undefined \

@@ -8,8 +8,9 @@
 ** Conventions a user relies on: angles in degrees; round() sends halves
 ** away from zero; log is base 10, ln natural; range(a, b, step) and
 ** slice(list, a, b) exclude b (as Python), range(n) is [0, ..., n-1];
-** search(x, list) is the index of the first element equal to x (or of a
-** substring in a string), undef when absent; rands uses PCG32.
+** search is OpenSCAD 2021's; rands uses PCG32. Builtins sharing OpenSCAD's
+** names answer as OpenSCAD 2021's do, except where the language reference
+** says why not (an error where OpenSCAD warns and gives undef).
 */
 #include "builtins.h"
 
@@ -19,6 +20,7 @@
 #include <string.h>
 
 #include "../base/rng.h"
+#include "../base/utf8.h"
 
 #include "../geom/subdiv.h"
 #include "../io/fold.h"
@@ -127,9 +129,17 @@ static Value math1(Eval *ev, Value v, Math1 f, const ENode *call) {
   static Value cname(Eval *ev, Value *a, int n, const ENode *call) { return math1(ev, a[0], f, call); }
 MATH1(bi_sin, sin_deg) MATH1(bi_cos, cos_deg) MATH1(bi_tan, tan_deg)
 MATH1(bi_asin, asin_deg) MATH1(bi_acos, acos_deg) MATH1(bi_atan, atan_deg)
-MATH1(bi_sqrt, sqrt) MATH1(bi_exp, exp) MATH1(bi_ln, log) MATH1(bi_log, log10)
+MATH1(bi_sqrt, sqrt) MATH1(bi_exp, exp) MATH1(bi_ln, log) MATH1(bi_log10, log10)
 MATH1(bi_abs, fabs) MATH1(bi_sign, sign_of) MATH1(bi_floor, floor) MATH1(bi_ceil, ceil)
 MATH1(bi_round, round)
+
+/* log(x) is base 10; log(b, x) is base b (OpenSCAD 2021's two-argument form). */
+static Value bi_log(Eval *ev, Value *a, int n, const ENode *call) {
+  if (a[1].kind == V_UNSET) return bi_log10(ev, a, n, call);
+  double b, x;
+  if (get_num(ev, a, 0, call, &b) || get_num(ev, a, 1, call, &x)) return val_err();
+  return val_num(log(x) / log(b));
+}
 
 static Value bi_atan2(Eval *ev, Value *a, int n, const ENode *call) {
   double y, x;
@@ -224,7 +234,12 @@ static Value bi_dot(Eval *ev, Value *a, int n, const ENode *call) {
   return val_num(s);
 }
 
+/* cross(a, b) of 3-vectors; of 2-vectors, the number a.x b.y - a.y b.x (as OpenSCAD). */
 static Value bi_cross(Eval *ev, Value *a, int n, const ENode *call) {
+  List *x, *y;
+  if (a[0].kind == V_LIST && a[1].kind == V_LIST && (x = a[0].u.l)->n == 2 && (y = a[1].u.l)->n == 2 &&
+      x->v[0].kind == V_NUM && x->v[1].kind == V_NUM && y->v[0].kind == V_NUM && y->v[1].kind == V_NUM)
+    return val_num(x->v[0].u.n * y->v[1].u.n - x->v[1].u.n * y->v[0].u.n);
   Vec3 p, q;
   if (get_vec3(ev, a, 0, call, &p) || get_vec3(ev, a, 1, call, &q)) return val_err();
   return vec3_value(ev, v3_cross(p, q));
@@ -332,22 +347,125 @@ static Value bi_range(Eval *ev, Value *a, int n, const ENode *call) {
   return val_ptr(V_LIST, l);
 }
 
-static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
-  if (a[1].kind == V_STR) {
-    if (a[0].kind != V_STR) { type_error(ev, call, 0, "a string (to find in a string)", &a[0]); return val_err(); }
-    const char *hit = strstr(a[1].u.s->s, a[0].u.s->s);
-    if (!hit) return val_undef();
-    Str prefix = {(int)(hit - a[1].u.s->s)};
-    (void)prefix;
-    int chars = 0;
-    for (const char *p = a[1].u.s->s; p < hit; p++) chars += ((unsigned char)*p & 0xC0) != 0x80;
-    return val_num(chars);
+/* ---- search (OpenSCAD 2021's) -------------------------------------------- */
+
+/* search(match, table, num_returns = 1, index_col = 0) answers as OpenSCAD
+** 2021's does. An element of a list table matches a value when it equals
+** it (with index_col 0), or when it is a list whose index_col-th entry
+** equals it. A number gives the flat list of matching indices (the first
+** num_returns of them; 0: all). A list gives one result per element: with
+** num_returns 1 the index (or [] when absent), else the list of indices.
+** A string is searched character by character: in a string, for the
+** equal characters; in a list, for the entries whose index_col-th value
+** begins with that character (an entry with fewer values makes the whole
+** answer []); with num_returns 1 an absent character gives nothing, else
+** []. Anything else to find gives undef. */
+typedef struct Search {
+  Eval *ev;
+  const Value *table;   /* a list table's elements, or NULL */
+  const uint32_t *chars;/* a string table's code points, or NULL */
+  int n;                /* elements or code points */
+  unsigned limit;       /* matches wanted for one value; 0: all */
+  int col;
+  int *hit, nhit, cap;  /* the indices found for the value being searched */
+} Search;
+
+static Value hits_list(Search *s) {
+  List *l = ev_list(s->ev, s->nhit);
+  for (int i = 0; i < s->nhit; i++) l->v[i] = val_num(s->hit[i]);
+  return val_ptr(V_LIST, l);
+}
+
+static void add_hit(Search *s, int j) {
+  s->hit = xgrow(s->hit, &s->cap, s->nhit + 1, sizeof *s->hit);
+  s->hit[s->nhit++] = j;
+}
+
+static int more(const Search *s) { return s->limit == 0 || (unsigned)s->nhit < s->limit; }
+
+/* The code points of UTF-8 text t into a new array; *n of them. */
+static uint32_t *code_points(const char *t, int *n) {
+  size_t len = strlen(t);
+  uint32_t *cp = xmalloc((len + 1) * sizeof *cp);
+  const unsigned char *p = (const unsigned char *)t, *end = p + len;
+  *n = 0;
+  while (p < end) {
+    int k = utf8_decode(p, end, &cp[*n]);
+    p += k ? k : 1;
+    (*n)++;
   }
-  List *x;
-  if (get_list(ev, a, 1, call, &x)) return val_err();
-  for (int i = 0; i < x->n; i++)
-    if (val_equal(&a[0], &x->v[i])) return val_num(i);
-  return val_undef();
+  return cp;
+}
+
+/* The first code point of v as str() writes it (0 when empty). */
+static uint32_t first_code_point(const Value *v) {
+  StrBuf b = {0};
+  val_format(&b, v, 1);
+  uint32_t c = 0;
+  if (b.s && b.len && !utf8_decode((const unsigned char *)b.s, (const unsigned char *)b.s + b.len, &c)) c = 0;
+  free(b.s);
+  return c;
+}
+
+static void search_value(Search *s, const Value *want) {
+  s->nhit = 0;
+  for (int j = 0; s->table && j < s->n && more(s); j++) {
+    const Value *e = &s->table[j];
+    if ((s->col == 0 && val_equal(want, e)) ||
+        (e->kind == V_LIST && s->col < e->u.l->n && val_equal(want, &e->u.l->v[s->col])))
+      add_hit(s, j);
+  }
+}
+
+static void search_char(Search *s, uint32_t c) {
+  s->nhit = 0;
+  for (int j = 0; j < s->n && more(s); j++)
+    if (c == (s->chars ? s->chars[j] : first_code_point(&s->table[j].u.l->v[s->col]))) add_hit(s, j);
+}
+
+static Value search_string(Search *s, const char *find) {
+  for (int j = 0; s->table && j < s->n; j++)
+    if (s->table[j].kind != V_LIST || s->table[j].u.l->n <= s->col) return val_ptr(V_LIST, ev_list(s->ev, 0));
+  int nf;
+  uint32_t *f = code_points(find, &nf);
+  List *out = ev_list(s->ev, nf);
+  int k = 0;
+  for (int i = 0; i < nf; i++) {
+    search_char(s, f[i]);
+    if (s->limit != 1) out->v[k++] = hits_list(s);
+    else if (s->nhit) out->v[k++] = val_num(s->hit[0]);
+  }
+  out->n = k;
+  free(f);
+  return val_ptr(V_LIST, out);
+}
+
+static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
+  double num, col;
+  if (opt_num(ev, a, 2, call, 1, &num) || opt_num(ev, a, 3, call, 0, &col)) return val_err();
+  if (col < 0 || col != floor(col) || col > INT_MAX) {
+    type_error(ev, call, 3, "a column index (a whole number, 0 or more)", &a[3]);
+    return val_err();
+  }
+  /* OpenSCAD takes the count as an unsigned integer: a negative one asks for all */
+  Search s = {ev, NULL, NULL, 0, num < 0 || num >= UINT_MAX ? 0 : (unsigned)num, (int)col, NULL, 0, 0};
+  uint32_t *chars = NULL;
+  if (a[1].kind == V_LIST) { s.table = a[1].u.l->v; s.n = a[1].u.l->n; }
+  if (a[1].kind == V_STR) s.chars = chars = code_points(a[1].u.s->s, &s.n);
+  Value r = val_undef();
+  if (a[0].kind == V_STR) r = search_string(&s, a[0].u.s->s);
+  else if (a[0].kind == V_NUM) { search_value(&s, &a[0]); r = hits_list(&s); }
+  else if (a[0].kind == V_LIST) {
+    List *out = ev_list(ev, a[0].u.l->n);
+    for (int i = 0; i < out->n; i++) {
+      search_value(&s, &a[0].u.l->v[i]);
+      out->v[i] = s.limit == 1 && s.nhit == 1 ? val_num(s.hit[0]) : hits_list(&s);
+    }
+    r = val_ptr(V_LIST, out);
+  }
+  free(chars);
+  free(s.hit);
+  return r;
 }
 
 static Value bi_str(Eval *ev, Value *a, int n, const ENode *call) {
@@ -370,22 +488,25 @@ static int put_utf8(char *d, unsigned c) {
   return 4;
 }
 
-/* chr(code) or chr([codes]): the string of those code points. */
+/* The UTF-8 of code point v at buf + *len; nonzero (reported as argument i) when v is none. */
+static int put_code(Eval *ev, const ENode *call, int i, const Value *v, char *buf, int *len) {
+  if (v->kind != V_NUM || v->u.n < 1 || v->u.n > 0x10FFFF || (v->u.n >= 0xD800 && v->u.n < 0xE000))
+    return type_error(ev, call, i, "Unicode code points (1 to 0x10FFFF)", v);
+  *len += put_utf8(buf + *len, (unsigned)v->u.n);
+  return 0;
+}
+
+/* chr(code, ...), each argument a code point or a list of them: the string of them all. */
 static Value bi_chr(Eval *ev, Value *a, int n, const ENode *call) {
-  Value *v = a;
-  int m = 1;
-  if (a[0].kind == V_LIST) { v = a[0].u.l->v; m = a[0].u.l->n; }
-  char *buf = xmalloc((size_t)m * 4 + 1);
-  int len = 0;
-  for (int i = 0; i < m; i++) {
-    if (v[i].kind != V_NUM || v[i].u.n < 1 || v[i].u.n > 0x10FFFF || (v[i].u.n >= 0xD800 && v[i].u.n < 0xE000)) {
-      free(buf);
-      type_error(ev, call, 0, "Unicode code points (1 to 0x10FFFF)", &v[i]);
-      return val_err();
-    }
-    len += put_utf8(buf + len, (unsigned)v[i].u.n);
+  size_t m = 0;
+  for (int i = 0; i < n; i++) m += a[i].kind == V_LIST ? (size_t)a[i].u.l->n : 1;
+  char *buf = xmalloc(m * 4 + 1);
+  int len = 0, bad = 0;
+  for (int i = 0; i < n && !bad; i++) {
+    if (a[i].kind != V_LIST) { bad = put_code(ev, call, i, &a[i], buf, &len); continue; }
+    for (int k = 0; k < a[i].u.l->n && !bad; k++) bad = put_code(ev, call, i, &a[i].u.l->v[k], buf, &len);
   }
-  Value r = ev_str(ev, buf, len);
+  Value r = bad ? val_err() : ev_str(ev, buf, len);
   free(buf);
   return r;
 }
@@ -424,7 +545,7 @@ static Value bi_rands(Eval *ev, Value *a, int n, const ENode *call) {
 
 #define IS(cname, cond) \
   static Value cname(Eval *ev, Value *a, int n, const ENode *call) { return val_bool(cond); }
-IS(bi_is_undef, a[0].kind == V_UNDEF) IS(bi_is_num, a[0].kind == V_NUM) IS(bi_is_string, a[0].kind == V_STR)
+IS(bi_is_undef, a[0].kind == V_UNDEF) IS(bi_is_num, a[0].kind == V_NUM && !isnan(a[0].u.n)) IS(bi_is_string, a[0].kind == V_STR)
 IS(bi_is_list, a[0].kind == V_LIST) IS(bi_is_bool, a[0].kind == V_BOOL) IS(bi_is_function, a[0].kind == V_FUNC)
 
 /* ---- transforms and colours ------------------------------------------- */
@@ -779,7 +900,7 @@ static const Builtin builtins[] = {
   {"sin", bi_sin, "x", 1, 1, 0}, {"cos", bi_cos, "x", 1, 1, 0}, {"tan", bi_tan, "x", 1, 1, 0},
   {"asin", bi_asin, "x", 1, 1, 0}, {"acos", bi_acos, "x", 1, 1, 0}, {"atan", bi_atan, "x", 1, 1, 0},
   {"atan2", bi_atan2, "y,x", 2, 2, 0}, {"sqrt", bi_sqrt, "x", 1, 1, 0}, {"pow", bi_pow, "x,y", 2, 2, 0},
-  {"exp", bi_exp, "x", 1, 1, 0}, {"ln", bi_ln, "x", 1, 1, 0}, {"log", bi_log, "x", 1, 1, 0},
+  {"exp", bi_exp, "x", 1, 1, 0}, {"ln", bi_ln, "x", 1, 1, 0}, {"log", bi_log, "x,y", 1, 2, 0},
   {"abs", bi_abs, "x", 1, 1, 0}, {"sign", bi_sign, "x", 1, 1, 0}, {"min", bi_min, "", 1, -1, 0},
   {"max", bi_max, "", 1, -1, 0}, {"floor", bi_floor, "x", 1, 1, 0}, {"ceil", bi_ceil, "x", 1, 1, 0},
   {"round", bi_round, "x", 1, 1, 0}, {"lerp", bi_lerp, "a,b,t", 3, 3, 0},
@@ -787,8 +908,8 @@ static const Builtin builtins[] = {
   {"dot", bi_dot, "a,b", 2, 2, 0}, {"cross", bi_cross, "a,b", 2, 2, 0}, {"norm", bi_norm, "v", 1, 1, 0},
   {"normalize", bi_normalize, "v", 1, 1, 0}, {"len", bi_len, "x", 1, 1, 0}, {"concat", bi_concat, "", 0, -1, 0},
   {"reverse", bi_reverse, "x", 1, 1, 0}, {"slice", bi_slice, "list,start,end", 2, 3, 0},
-  {"range", bi_range, "start,end,step", 1, 3, 0}, {"search", bi_search, "x,in", 2, 2, 0},
-  {"str", bi_str, "", 0, -1, 0}, {"chr", bi_chr, "code", 1, 1, 0}, {"ord", bi_ord, "s", 1, 1, 0},
+  {"range", bi_range, "start,end,step", 1, 3, 0}, {"search", bi_search, "match_value,string_or_vector,num_returns_per_match,index_col_num", 2, 4, 0},
+  {"str", bi_str, "", 0, -1, 0}, {"chr", bi_chr, "", 1, -1, 0}, {"ord", bi_ord, "s", 1, 1, 0},
   {"rands", bi_rands, "min,max,n,seed", 3, 4, 0},
   {"is_undef", bi_is_undef, "x", 1, 1, 0}, {"is_num", bi_is_num, "x", 1, 1, 0},
   {"is_string", bi_is_string, "x", 1, 1, 0}, {"is_list", bi_is_list, "x", 1, 1, 0},

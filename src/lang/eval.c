@@ -15,6 +15,7 @@
 
 #include "builtins.h"
 #include "eval_int.h"
+#include "habits.h"
 #include "schema.h"
 
 /* The evaluator runs on a thread with a stack this large, so deep
@@ -594,17 +595,20 @@ static Value call_builtin(Eval *ev, const Builtin *bi, const ENode *call, Env *e
   for (int i = 0; i < n; i++) args[i] = val_unset();
   int pos = 0, given = 0;
   Value r = val_err();
+  char hint[600];
   for (int i = 0; i < call->n; i++) {
     int k = pos;
     if (call->names[i] && bi->max_args >= 0) {
       k = builtin_param(bi, call->names[i]);
       if (k < 0) {
-        ev_error(ev, call->argloc[i], "`%s` has no parameter `%s`", bi->name, call->names[i]);
+        habit_hint(HABIT_ARGS, bi->name, NULL, hint, sizeof hint);
+        ev_error(ev, call->argloc[i], "`%s` has no parameter `%s`%s", bi->name, call->names[i], hint);
         goto out;
       }
     } else pos++;
     if (k >= n) {
-      ev_error(ev, call->argloc[i], "too many arguments to `%s` (it takes %d)", bi->name, n);
+      habit_hint(HABIT_ARGS, bi->name, NULL, hint, sizeof hint);
+      ev_error(ev, call->argloc[i], "too many arguments to `%s` (it takes %d)%s", bi->name, n, hint);
       goto out;
     }
     args[k] = ev_expr(ev, call->kids[i], env);
@@ -985,8 +989,10 @@ static int exec_call(Eval *ev, const ENode *s, Env *env) {
     Value r = call_builtin(ev, f.u.f->bi, s->a, env);
     return r.kind == V_ERR ? -1 : 0;
   }
-  ev_error(ev, s->a->range, "a statement can only call a module; `%s` is %s",
-           s->a->what ? s->a->what : "this", a_type(&f));
+  char hint[600];
+  habit_hint(HABIT_MODULE, s->a->what, NULL, hint, sizeof hint);
+  ev_error(ev, s->a->range, "a statement can only call a module; `%s` is %s%s",
+           s->a->what ? s->a->what : "this", a_type(&f), hint);
   return -1;
 }
 

@@ -12,6 +12,7 @@
 
 #include "builtins.h"
 #include "eval_int.h"
+#include "habits.h"
 #include "schema.h"
 #include "parse.h"
 
@@ -133,7 +134,11 @@ static void report_unknown(Compiler *c, const char *name, SrcRange at, const cha
     cands[n++] = bt[i].name;
   }
   const char *s = suggest_name(name, cands, n);
-  if (s) diag_error(at, "unknown %s `%s`; did you mean `%s`?", what, name, s);
+  char hint[600];
+  if (habit_hint(strcmp(what, "module") ? HABIT_NAME : HABIT_MODULE, name, c->ev->opt->stdlib_dir, hint,
+                 sizeof hint))
+    diag_error(at, "unknown %s `%s`%s", what, name, hint);
+  else if (s) diag_error(at, "unknown %s `%s`; did you mean `%s`?", what, name, s);
   else diag_error(at, "unknown %s `%s`", what, name);
   free(cands);
 }

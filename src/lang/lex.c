@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "../base/utf8.h"
+#include "habits.h"
 
 #define TOKEN_NAME(name, text) text,
 static const char *const token_names[] = {TOKEN_LIST(TOKEN_NAME)};
@@ -406,9 +407,11 @@ static void lex_color(Lexer *lx, Token *t) {
   int ok = n == 3 || n == 6 || n == 8;
   for (int i = 1; i <= n && ok; i++) ok = hex_value((unsigned char)start[i]) >= 0;
   if (!ok) {
-    char *text = arena_strndup(lx->arena, start, (size_t)n + 1);
+    char *text = arena_strndup(lx->arena, start, (size_t)n + 1), hint[600];
     lx->errors++;
-    if (!lx->quiet) diag_error(t->range, "invalid colour `%s`: expected #rgb, #rrggbb or #rrggbbaa", text);
+    if (lx->quiet) return;
+    if (habit_hint(HABIT_TOKEN, text, NULL, hint, sizeof hint)) diag_error(t->range, "unexpected `%s`%s", text, hint);
+    else diag_error(t->range, "invalid colour `%s`: expected #rgb, #rrggbb or #rrggbbaa", text);
     return;
   }
   for (int k = 0; k < (n == 3 ? 3 : n / 2); k++) {
@@ -440,13 +443,18 @@ static void lex_ident(Lexer *lx, Token *t) {
 /* Report the character at p as unexpected and step over it. */
 static void lex_stray(Lexer *lx) {
   SrcRange r = here(lx);
-  uint32_t cp;
+  uint32_t cp = 0;
   int n = utf8_decode((const unsigned char *)lx->p, (const unsigned char *)lx->end, &cp);
-  char what[64];
+  char what[700], word[32], hint[600];
+  int w = 1;   /* `$fn`: the word after a `$` */
+  while (cp == '$' && w < 31 && lx->p + w < lx->end && is_ident_char((unsigned char)lx->p[w])) w++;
+  snprintf(word, sizeof word, "%.*s", w, lx->p);
   if (n == 0) snprintf(what, sizeof what, "invalid UTF-8 byte 0x%02x", (unsigned char)*lx->p);
   else if (cp == 0) snprintf(what, sizeof what, "NUL byte");
   else if (cp < 0x20 || cp == 0x7F) snprintf(what, sizeof what, "unexpected control character U+%04X", (unsigned)cp);
   else if (cp == '`') snprintf(what, sizeof what, "unexpected backtick (U+0060)");
+  else if (cp == '$' && habit_hint(HABIT_TOKEN, word, NULL, hint, sizeof hint))
+    snprintf(what, sizeof what, "unexpected `%s`%s", word, hint);
   else snprintf(what, sizeof what, "unexpected character `%.*s` (U+%04X)", n, lx->p, (unsigned)cp);
   lex_error(lx, r, what);
   advance(lx);

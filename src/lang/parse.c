@@ -12,6 +12,8 @@
 */
 #include "parse.h"
 
+#include "habits.h"
+
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -387,7 +389,9 @@ static AstNode *parse_primary(Parser *p) {
       return n;
     default:
       if (t->bad) p->panic = 1;   /* the lexer already reported it */
-      error_at(p, at, "expected an expression, found %s", found(p));
+      char hint[600] = "";
+      if (t->kind == TK_LT) habit_hint(HABIT_TOKEN, "<", NULL, hint, sizeof hint);
+      error_at(p, at, "expected an expression, found %s%s", found(p), hint);
       return bad_expr(p);
   }
 }
@@ -626,7 +630,13 @@ static AstNode *parse_include(Parser *p) {
   int is_use = check(p, TK_USE);
   AstNode *n = node(p, is_use ? AST_USE : AST_INCLUDE);
   next_token(p);
-  if (!check(p, TK_STRING)) { expected(p, TK_STRING, is_use ? "(a file name) after `use`" : "(a file name) after `include`"); return n; }
+  if (!check(p, TK_STRING)) {
+    char hint[600];
+    if (check(p, TK_LT) && habit_hint(HABIT_TOKEN, is_use ? "use <" : "include <", NULL, hint, sizeof hint))
+      error_at(p, p->cur.range, "expected string (a file name) after `%s`, found `<`%s", is_use ? "use" : "include", hint);
+    else expected(p, TK_STRING, is_use ? "(a file name) after `use`" : "(a file name) after `include`");
+    return n;
+  }
   n->name = p->cur.string;
   next_token(p);
   if (is_use) {
@@ -737,9 +747,14 @@ static AstNode *parse_block(Parser *p) {
 static AstNode *parse_call_stmt(Parser *p) {
   AstNode *n = node(p, AST_CALL_STMT);
   n->a = parse_postfix(p);
+  char hint[600];
   if (!p->panic && check(p, TK_LBRACE)) {
     n->has_body = 1;
     parse_braced(p, &n->list2, "");
+  } else if (!p->panic && check(p, TK_IDENT) && n->a->kind == AST_CALL && n->a->a &&
+             n->a->a->kind == AST_IDENT &&
+             habit_hint(HABIT_CHILD, n->a->a->name, NULL, hint, sizeof hint)) {
+    error_at(p, p->cur.range, "expected `;` after a call, found %s%s", found(p), hint);
   } else end_statement(p, "after a call");
   end_node(p, n);
   return n;
@@ -749,9 +764,15 @@ static AstNode *parse_call_stmt(Parser *p) {
 static AstNode *parse_property(Parser *p) {
   AstNode *n = node(p, AST_PROPERTY);
   n->name = p->cur.string;
+  SrcRange name_at = p->cur.range;
   next_token(p);
   if (check(p, TK_ASSIGN)) {
     error_at(p, p->cur.range, "unexpected `=` after `%s`: a definition needs `let` (`let %s = …;`)", n->name, n->name);
+    return n;
+  }
+  char hint[600];
+  if (habit_hint(HABIT_TOKEN, n->name, NULL, hint, sizeof hint)) {
+    error_at(p, name_at, "unexpected `%s`%s", n->name, hint);
     return n;
   }
   if (!check(p, TK_SEMI)) {
@@ -801,7 +822,9 @@ static AstNode *parse_item(Parser *p) {
       return NULL;
     default:
       if (p->cur.bad) p->panic = 1;
-      error_at(p, p->cur.range, "expected a statement, a block or a property, found %s", found(p));
+      char hint[600] = "";
+      if (check(p, TK_LT)) habit_hint(HABIT_TOKEN, "<", NULL, hint, sizeof hint);
+      error_at(p, p->cur.range, "expected a statement, a block or a property, found %s%s", found(p), hint);
       return NULL;
   }
 }

@@ -11,6 +11,8 @@
 */
 #include "schema.h"
 
+#include "habits.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stddef.h>
@@ -814,7 +816,10 @@ static void unknown_prop(Ctx *c, const Schema *s, const Prop *p) {
   int n = 0;
   for (int i = 0; i < s->nrows && n < 64; i++) names[n++] = s->rows[i].name;
   const char *sug = suggest_name(p->name, names, n);
-  if (sug) ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`; did you mean `%s`?", p->name, c->what, sug);
+  char hint[600];
+  if (habit_hint(HABIT_PROPERTY, p->name, NULL, hint, sizeof hint))
+    ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`%s", p->name, c->what, hint);
+  else if (sug) ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`; did you mean `%s`?", p->name, c->what, sug);
   else ev_error(c->ev, name_range(p), "unknown property `%s` in `%s`", p->name, c->what);
 }
 
@@ -896,7 +901,10 @@ static void unknown_kind(Ctx *c, const BlockVal *b, const char *allowed, const c
   snprintf(buf, sizeof buf, "%s", allowed);
   for (char *tok = strtok(buf, "|"); tok; tok = strtok(NULL, "|")) names[n++] = tok;
   const char *sug = suggest_name(b->kind, names, n);
-  if (!schema_known_kind(b->kind)) {
+  char hint[600];
+  if (habit_hint(HABIT_BLOCK, b->kind, NULL, hint, sizeof hint)) {
+    ev_error(c->ev, b->loc, "unknown block `%s`%s%s", b->kind, where, hint);
+  } else if (!schema_known_kind(b->kind)) {
     if (!sug) {
       n = 0;
       for (int i = 0; i < NSCHEMAS; i++) names[n++] = schemas[i].kind;

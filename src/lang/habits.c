@@ -1,0 +1,103 @@
+/*
+** The table of POV-Ray and OpenSCAD habits and sumi's spelling of each
+** (see habits.h).
+*/
+#include "habits.h"
+
+#include <stdio.h>
+#include <string.h>
+
+typedef struct Habit {
+  HabitPlace place;
+  const char *names;   /* "a|b|c": the names it matches */
+  const char *hint;    /* how sumi spells it */
+} Habit;
+
+#define SHAPE "a shape is an object's geometry: `object { geometry sphere(1); }` (shapes.npr has " \
+              "sphere, cube, cylinder, torus, plane)"
+#define TRANSFORM "a transform is a property of the object it moves: " \
+                  "`object { geometry …; transform translate([1, 0, 0]); }` (compose with `*`)"
+#define LOOK "an object's colour and shading come from its style: `style s { base #ff0000; shade " \
+             "phong { } }`, then `style s;` in the object"
+
+/* One row per habit. */
+static const Habit habits[] = {
+  /* POV-Ray */
+  {HABIT_BLOCK, "sphere|box|cylinder|cone|torus|plane|mesh|mesh2|polygon|prism|lathe|sor|superellipsoid", SHAPE},
+  {HABIT_BLOCK, "union|difference|intersection|merge",
+   "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
+  {HABIT_BLOCK, "light_source", "a light is `light { position [x, y, z]; }` (or `direction` for a sun)"},
+  {HABIT_BLOCK, "pigment|texture|finish|normal|material", LOOK},
+  {HABIT_BLOCK, "background|global_settings", "the background colour is `output { background #rrggbb; }`"},
+  {HABIT_PROPERTY, "location", "the camera's place is `position [x, y, z]`"},
+  {HABIT_PROPERTY, "translate|rotate|scale|matrix", TRANSFORM},
+  {HABIT_PROPERTY, "pigment|color|colour|texture|finish", LOOK},
+  {HABIT_TOKEN, "<", "a vector is written `[x, y, z]`"},
+  {HABIT_TOKEN, "#declare|#local", "a definition is `let name = value;`"},
+  {HABIT_TOKEN, "#include", "a library is brought in with `include \"file.npr\";`"},
+  {HABIT_TOKEN, "#macro", "a reusable piece of scene is `module name(args) { … }`"},
+  {HABIT_TOKEN, "#if|#for|#while|#switch", "control is `if (c) { … }` and `for (i = [0:9]) { … }`"},
+  /* OpenSCAD */
+  {HABIT_MODULE, "sphere|cube|cylinder|torus|polyhedron", SHAPE},
+  {HABIT_MODULE, "translate|rotate|scale|mirror|multmatrix|resize", TRANSFORM},
+  {HABIT_MODULE, "color", LOOK},
+  {HABIT_MODULE, "union|difference|intersection|hull|minkowski|render",
+   "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
+  {HABIT_MODULE, "text", "sumi draws no text (`echo(…)` prints it)"},
+  {HABIT_MODULE, "linear_extrude|rotate_extrude|circle|square|polygon|projection|offset",
+   "sumi has no 2D shapes or extrusions: `mesh(points, faces)` builds a polygon mesh"},
+  {HABIT_MODULE, "import", "a mesh file is read by `mesh(\"file.obj\")`, the geometry of an object"},
+  {HABIT_CHILD, "translate|rotate|scale|mirror|multmatrix|resize", TRANSFORM},
+  {HABIT_CHILD, "color", LOOK},
+  {HABIT_CHILD, "union|difference|intersection|hull|minkowski|render|linear_extrude|rotate_extrude",
+   "sumi has no CSG or extrusions, and a call statement takes no child: end it with `;`"},
+  {HABIT_ARGS, "rotate", "`rotate([ax, ay, az])` turns about x, then y, then z, in degrees: "
+                         "OpenSCAD's `rotate(45, [0, 0, 1])` is `rotate([0, 0, 45])`"},
+  {HABIT_ARGS, "translate", "`translate([x, y, z])` takes one vector"},
+  {HABIT_ARGS, "scale", "`scale(s)` or `scale([sx, sy, sz])` takes one number or vector"},
+  {HABIT_TOKEN, "$fn|$fa|$fs", "an object's triangles are `tessellate N;` or `tessellate adaptive(pixels);`"},
+  {HABIT_TOKEN, "function", "a function is `fn name(x) = …;`"},
+  {HABIT_TOKEN, "include <|use <", "a file name is a string: `include \"file.npr\";`"},
+  /* names a library defines (names: the library file): "`red` is …" */
+  {HABIT_NAME, "colors.npr", "is a colour of the library: `include \"colors.npr\";` first"},
+};
+
+/* Whether name is one of "a|b|c". */
+static int listed(const char *names, const char *name) {
+  size_t n = strlen(name);
+  for (const char *w = names; w; w = strchr(w, '|'), w = w ? w + 1 : NULL)
+    if (!strncmp(w, name, n) && (w[n] == '|' || w[n] == 0)) return 1;
+  return 0;
+}
+
+/* Whether library file lib in lib_dir defines name at the top level (a
+** line `let name = …` or `fn name(…`). */
+static int library_defines(const char *lib_dir, const char *lib, const char *name) {
+  char path[4096], line[512];
+  if (!lib_dir) return 0;
+  snprintf(path, sizeof path, "%s/%s", lib_dir, lib);
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  size_t n = strlen(name);
+  int found = 0;
+  while (!found && fgets(line, sizeof line, f)) {
+    const char *s = !strncmp(line, "let ", 4) ? line + 4 : !strncmp(line, "fn ", 3) ? line + 3 : NULL;
+    found = s && !strncmp(s, name, n) && strchr(" =(", s[n]);
+  }
+  fclose(f);
+  return found;
+}
+
+int habit_hint(HabitPlace place, const char *name, const char *lib_dir, char *out, size_t n) {
+  out[0] = 0;
+  for (size_t i = 0; name && i < sizeof habits / sizeof habits[0]; i++) {
+    const Habit *h = &habits[i];
+    if (h->place != place) continue;
+    if (place == HABIT_NAME ? library_defines(lib_dir, h->names, name) : listed(h->names, name)) {
+      if (place == HABIT_NAME) snprintf(out, n, "; `%s` %s", name, h->hint);
+      else snprintf(out, n, "; %s", h->hint);
+      return 1;
+    }
+  }
+  return 0;
+}
