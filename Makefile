@@ -17,7 +17,7 @@ CFLAGS  ?= -O2 -g
 CFLAGS  += -std=c11 -D_DEFAULT_SOURCE $(WARN) $(VECTOR) -MMD -MP -pthread
 CXXFLAGS ?= -O2 -g
 CXXFLAGS += -std=c++17 -Wall -Wextra -MMD -MP -fPIC
-LDLIBS  := -lcjson -losdCPU -lassimp -ldl -lm -pthread -lstdc++
+LDLIBS  := -lpng16 -lcjson -losdCPU -lassimp -ldl -lm -pthread -lstdc++
 
 ifeq ($(SANITIZE),1)
 BUILD   := build/san
@@ -36,7 +36,7 @@ UNIT_SRC := $(wildcard tests/unit/test_*.c)
 UNIT_BIN := $(UNIT_SRC:tests/unit/%.c=$(BUILD)/unit/%)
 TOOLS    := $(BUILD)/imgcmp
 
-DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev \
+DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
                    libassimp-dev clang libclang-rt-14-dev
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \

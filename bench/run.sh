@@ -9,16 +9,18 @@
 # the same command at 1x1 pixels (start-up, parsing, tessellation, writing
 # an empty image), and the median of their differences, the rendering
 # work; the two commands alternate (bench/pairs.py), so a busy spell of a
-# shared machine falls on both. Ratios: POV-Ray's over sumi's, for the
-# rendering work and for whole processes. sumi's runs carry the image
-# library's load (~0.25 s, reported on its own by --stats), whose spread
-# is larger than the 1080p work: a second line per size gives sumi's work
-# with each run's load taken off first, and the ratios from it. Then sumi's per-stage times
-# (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and the peer
-# scripts in $SUMI_SHARED (default ../shared); without them that part is
-# skipped. RUNS sets the rounds per configuration (default 20: every run
-# carries the image library's ~0.25 s load, whose spread is larger than a
-# 512x512 frame takes; POV-Ray gets RUNS / 2, at least 3).
+# shared machine falls on both; and the median peak memory (MiB) of whole
+# runs. Ratios: POV-Ray's over sumi's, for the rendering work and for
+# whole processes. A PNG goes through libpng, so these runs do not load
+# OpenImageIO; a second line per size gives sumi's work with any wait for
+# it (--stats "image library") taken off. Then the start-up: whole
+# processes of a small render (the teapot at 64x64 and 1x1 into a PNG; the
+# same into an EXR, which loads OpenImageIO on a thread from the start),
+# time and peak memory, beside POV-Ray's. Then sumi's per-stage times
+# (--stats, medians) and its peak RSS. POV-Ray needs `povray`, python3 and
+# the peer scripts in $SUMI_SHARED (default ../shared); without them that
+# part is skipped. RUNS sets the rounds per configuration (default 20;
+# POV-Ray gets RUNS / 2, at least 3).
 set -e
 SUMI=${1:-build/sumi}
 SHARED=${SUMI_SHARED:-../shared}
@@ -41,31 +43,30 @@ fi
 ms() { python3 -c 'import sys; print("%.1f" % (float(sys.argv[1]) * 1000))' "$1"; }
 ratio() { python3 -c 'import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print("%.1fx" % (a / b) if b > 0 else "-")' "$1" "$2"; }
 
-printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' size thr "sumi ms" "1x1 ms" "work ms" "pov ms" "1x1 ms" "work ms" "work x" "proc x"
+row() { printf '%-10s %3s | %9s %9s %9s %6s | %9s %9s %9s %6s | %7s %7s\n' "$@"; }
+row size thr "sumi ms" "1x1 ms" "work ms" "MiB" "pov ms" "1x1 ms" "work ms" "MiB" "work x" "proc x"
 for size in 512x512 1920x1080; do
   W=${size%x*}; H=${size#*x}
   for t in 1 2; do
     set -- $(python3 bench/pairs.py "$RUNS" --minus-stat "image library" \
                                     -- "$SUMI" render "$SCENE" -o "$DIR/s.png" -W "$W" -H "$H" --threads "$t" --stats --quiet \
                                     -- "$SUMI" render "$SCENE" -o "$DIR/s1.png" -W 1 -H 1 --threads "$t" --stats --quiet)
-    s_run=$1; s_one=$2; s_work=$3; s_lib=$4; s_net=$5
+    s_run=$1; s_one=$2; s_work=$3; s_lib=$4; s_net=$5; s_mib=$6
     eval "net_${W}_$t=$s_net"
     eval "work_${W}_$t=$s_work"
     if [ -n "$pov" ]; then
       set -- $(python3 bench/pairs.py "$POV_RUNS" -- povray +I"$DIR/teapot.pov" +O"$DIR/p.png" +FN +W"$W" +H"$H" -D -A +WT"$t" \
                                       -- povray +I"$DIR/teapot.pov" +O"$DIR/p1.png" +FN +W1 +H1 -D -A +WT"$t")
-      p_run=$1; p_one=$2; p_work=$3
+      p_run=$1; p_one=$2; p_work=$3; p_mib=$6
       eval "pwork_${W}_$t=$p_work"
-      printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
-        "$(ms "$s_work")" "$(ms "$p_run")" "$(ms "$p_one")" "$(ms "$p_work")" "$(ratio "$p_work" "$s_work")" \
-        "$(ratio "$p_run" "$s_run")"
+      row "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" "$(ms "$s_work")" "$s_mib" "$(ms "$p_run")" \
+        "$(ms "$p_one")" "$(ms "$p_work")" "$p_mib" "$(ratio "$p_work" "$s_work")" "$(ratio "$p_run" "$s_run")"
     else
-      printf '%-10s %3s | %9s %9s %9s | %9s %9s %9s | %7s %7s\n' "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" \
-        "$(ms "$s_work")" - - - - -
+      row "$size" "$t" "$(ms "$s_run")" "$(ms "$s_one")" "$(ms "$s_work")" "$s_mib" - - - - - -
     fi
   done
   eval "n1=\$net_${W}_1; n2=\$net_${W}_2"
-  line="  $size: sumi's work less each run's image library load (median $(ms "$s_lib") ms):"
+  line="  $size: sumi's work less each run's wait for the image library (median $(ms "$s_lib") ms):"
   line="$line 1 thread $(ms "$n1") ms, 2 threads $(ms "$n2") ms, 2 vs 1 $(ratio "$n1" "$n2")"
   if [ -n "$pov" ]; then
     eval "q1=\$pwork_${W}_1; q2=\$pwork_${W}_2"
@@ -80,7 +81,25 @@ for size in 512x512 1920x1080; do
   fi
 done
 echo "(medians of $RUNS rounds for sumi, $POV_RUNS for POV-Ray; work = median of run - the same command at 1x1;"
-echo " work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
+echo " MiB = peak RSS of the whole run; work x and proc x = POV-Ray time / sumi time; POV-Ray: +FN -A -D, same thread count)"
+
+# Start-up: whole processes of small renders, time and peak memory. The PNG
+# goes through libpng and never loads OpenImageIO (~260 libraries); the EXR
+# needs it and starts loading it on a thread before parsing.
+echo
+echo "start-up: whole process, medians of $RUNS rounds (ms, peak MiB)"
+for size in 64x64 1x1; do
+  W=${size%x*}; H=${size#*x}
+  set -- $(python3 bench/pairs.py "$RUNS" -- "$SUMI" render "$SCENE" -o "$DIR/u.png" -W "$W" -H "$H" --quiet \
+                                  -- "$SUMI" render "$SCENE" -o "$DIR/u.exr" -W "$W" -H "$H" --quiet)
+  line="  teapot $size: sumi png $(ms "$1") ms $6 MiB, exr $(ms "$2") ms $7 MiB"
+  if [ -n "$pov" ]; then
+    set -- $(python3 bench/pairs.py "$POV_RUNS" -- povray +I"$DIR/teapot.pov" +O"$DIR/u.png" +FN +W"$W" +H"$H" -D -A +WT1 \
+                                    -- "$SUMI" render "$SCENE" -o "$DIR/u.png" -W "$W" -H "$H" --threads 1 --quiet)
+    line="$line; POV-Ray png $(ms "$1") ms $6 MiB (sumi 1 thread $(ms "$2") ms $7 MiB: proc x $(ratio "$1" "$2"))"
+  fi
+  echo "$line"
+done
 
 # Per-stage times: each stage's median over 7 runs of --stats. The PNG is
 # encoded by the workers during the tile pass (nothing is drawn over this

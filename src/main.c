@@ -412,6 +412,15 @@ static void stream_rows(void *ctx, const Image *img, int y0, int y1) {
     image_stream_rows(os->file, y0, y1, img->data8 + (size_t)y0 * img->width * img->channels);
 }
 
+/* Start loading OpenImageIO on a thread when this render will need it
+** (image.h): for the output format or the AOVs, known from the command
+** line; for an input image, known once the scene is evaluated. */
+static void prefetch_for_output(const Options *o) {
+  const char *ext = strrchr(o->output, '.');
+  if (o->aov || (!(ext && !strcmp(ext, ".svg")) && image_write_needs_bridge(o->output)))
+    image_bridge_prefetch();
+}
+
 /* Render the evaluated scene to path (an image, or the strokes as SVG),
 ** with the --aov passes beside it. Returns the exit status. */
 static int render_to(const Options *o, const Scene *scene, const char *path) {
@@ -436,9 +445,14 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
     else if (os.file) status = image_stream_close(os.file, err, sizeof err) ? 0 : 1;
     else snprintf(err, sizeof err, "%s", os.err);
     if (status) fprintf(stderr, "sumi: %s\n", err);
-    double load = image_bridge_load_seconds();   /* dlopen of OpenImageIO, on first use */
-    stats_record("image library", load);
-    stats_record("write", now_seconds() - t0 - (os.begun ? 0 : load));
+    /* dlopen of OpenImageIO: the time the render waited for it, and (as
+    ** cpu) the whole load, which a prefetch thread overlaps with the work */
+    double waited = image_bridge_wait_seconds();
+    if (image_bridge_load_seconds() > 0) {
+      stats_record("image library", waited);
+      stats_record_cpu("image library", image_bridge_load_seconds());
+    }
+    stats_record("write", now_seconds() - t0 - (os.begun ? 0 : waited));
     if (!status && gb && !render_write_aovs(gb, path, o->aov, err, sizeof err)) {
       fprintf(stderr, "sumi: %s\n", err);
       status = 1;
@@ -465,8 +479,9 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
   eo.clock = clock;
   eo.frame = frame;
   double t1 = now_seconds();
-  if (prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0 &&
-      origami_check_scene(&scene) == 0) {
+  int ok = prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0;
+  if (ok && scene_any_image(&scene, image_read_needs_bridge)) image_bridge_prefetch();
+  if (ok && origami_check_scene(&scene) == 0) {
     stats_record("parse", t1 - t0);
     stats_record("eval", now_seconds() - t1);
     status = render_to(o, &scene, path);
@@ -479,6 +494,7 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
 
 /* sumi render FILE -o OUT [--frames A:B]: one image, or one a frame. */
 static int cmd_render(const Options *o) {
+  prefetch_for_output(o);
   if (!o->frames) return render_frame_to(o, 0, 0, o->output);
   if (!strcmp(o->input, "-")) bad_usage("--frames reads the scene once a frame: give a file, not -");
   int first, last;
@@ -512,6 +528,7 @@ static int watched_changed(const Watched *w) {
 ** included (every 200 ms) and render again when one changes. */
 static int cmd_watch(const Options *o) {
   if (!strcmp(o->input, "-")) bad_usage("`sumi watch` needs a file to watch, not -");
+  prefetch_for_output(o);
   for (;;) {
     int status = render_frame_to(o, 0, 0, o->output);
     if (!o->quiet)
@@ -569,6 +586,7 @@ int main(int argc, char **argv) {
   if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
   mem_heap_setup(cmd->needs_output);   /* the commands with an output render frames (base/mem.h) */
   int status = cmd->run(&o);
+  image_bridge_join();
   diag_shutdown();
   free((void *)o.defines);
   free((void *)o.include_dirs);

@@ -1,7 +1,9 @@
 /*
 ** Image buffers and image files. Pixels are converted here (sRGB encoding
 ** and decoding by exact tables, alpha association for EXR) and handed to
-** the OpenImageIO bridge, which this file loads with dlopen on first use:
+** libpng for PNG (png_file.h), or else to the OpenImageIO bridge, which
+** this file loads with dlopen on first use (or early, on a thread, when
+** image_bridge_prefetch says it will be needed):
 ** libsumi_oiio.so is looked for beside the running binary (an uninstalled
 ** build/), in PREFIX/lib/sumi/ for a binary in PREFIX/bin/, and one level up
 ** (test binaries in build/unit/). Writes go through a temporary file that
@@ -11,6 +13,7 @@
 
 #include "../base/mem.h"
 #include "image_oiio.h"
+#include "png_file.h"
 
 #include <dlfcn.h>
 #include <errno.h>
@@ -318,14 +321,54 @@ static void bridge_init(void) {
           "(build it with make)", dir);
 }
 
+static double bridge_waited;     /* seconds callers spent blocked in image_bridge_load */
+static pthread_mutex_t waited_lock = PTHREAD_MUTEX_INITIALIZER;
+
 int image_bridge_load(char *err, size_t errlen) {
+  double t0 = now_seconds();
   pthread_once(&bridge_once, bridge_init);
+  pthread_mutex_lock(&waited_lock);
+  bridge_waited += now_seconds() - t0;
+  pthread_mutex_unlock(&waited_lock);
   if (!bridge) set_err(err, errlen, "%s", bridge_error);
   return bridge != NULL;
 }
 
 double image_bridge_load_seconds(void) {
   return bridge_seconds;
+}
+
+double image_bridge_wait_seconds(void) {
+  pthread_mutex_lock(&waited_lock);
+  double w = bridge_waited;
+  pthread_mutex_unlock(&waited_lock);
+  return w;
+}
+
+static pthread_mutex_t prefetch_lock = PTHREAD_MUTEX_INITIALIZER;
+static pthread_t prefetch_thread;
+static int prefetch_state;   /* 0 none, 1 running, 2 joined */
+
+static void *prefetch_main(void *arg) {
+  (void)arg;
+  pthread_once(&bridge_once, bridge_init);   /* not image_bridge_load: no caller waits here */
+  return NULL;
+}
+
+void image_bridge_prefetch(void) {
+  pthread_mutex_lock(&prefetch_lock);
+  if (prefetch_state == 0 && pthread_create(&prefetch_thread, NULL, prefetch_main, NULL) == 0)
+    prefetch_state = 1;   /* if the thread cannot start, the first use loads it */
+  pthread_mutex_unlock(&prefetch_lock);
+}
+
+void image_bridge_join(void) {
+  pthread_mutex_lock(&prefetch_lock);
+  if (prefetch_state == 1) {
+    pthread_join(prefetch_thread, NULL);
+    prefetch_state = 2;
+  }
+  pthread_mutex_unlock(&prefetch_lock);
 }
 
 /* ---- writing ------------------------------------------------------------ */
@@ -375,11 +418,12 @@ static int make_temp(const char *path, char *tmp, size_t size) {
   return 0;
 }
 
-/* Load the bridge and create the temporary file for path in tmp (size
-** bytes). Returns 1, or 0 with the reason in err. */
+/* Load the bridge (unless the file is a PNG, which libpng writes) and
+** create the temporary file for path in tmp (size bytes). Returns 1, or 0
+** with the reason in err. */
 static int begin_write(const char *path, char *tmp, size_t size, char *err, size_t errlen) {
   char why[768];
-  if (!image_bridge_load(why, sizeof why)) {
+  if (format_of(path) != FMT_PNG && !image_bridge_load(why, sizeof why)) {
     set_err(err, errlen, "cannot write '%s': %s", path, why);
     return 0;
   }
@@ -399,12 +443,60 @@ static int end_write(const char *path, const char *tmp, char *err, size_t errlen
   return 0;
 }
 
-/* Write px through the bridge to a temporary file, then rename it to path.
-** On any failure the temporary file is removed. */
+/* Open the temporary file tmp as a PNG of px's size (8- or 16-bit codes);
+** NULL with the reason in err, the file left for the caller to remove. */
+static PngOut *png_begin(const char *path, const char *tmp, const SumiOiioPixels *px, FILE **f,
+                         char *err, size_t errlen) {
+  char why[512];
+  *f = fopen(tmp, "wb");
+  PngOut *p = *f ? png_out_open(*f, px->width, px->height, px->channels,
+                                px->type == SUMI_OIIO_UINT16 ? 16 : 8, why, sizeof why) : NULL;
+  if (p) return p;
+  set_err(err, errlen, "cannot write '%s': %s", path, *f ? why : strerror(errno));
+  if (*f) fclose(*f);
+  *f = NULL;
+  return NULL;
+}
+
+/* Finish the PNG p on f, closing both; ok says whether every step so far
+** worked. Returns 1, or 0, with the reason of a failure in this step in
+** why (n bytes; an earlier one is left there). */
+static int png_end(PngOut *p, FILE *f, int ok, char *why, size_t n) {
+  if (!png_out_close(p, why, ok ? n : 0)) ok = 0;
+  int bad = ferror(f);
+  if ((fclose(f) != 0 || bad) && ok) {
+    set_err(why, n, "%s", strerror(errno ? errno : EIO));
+    ok = 0;
+  }
+  return ok;
+}
+
+/* Write px as a PNG through libpng into tmp. */
+static int write_png(const char *path, const char *tmp, const SumiOiioPixels *px, char *err,
+                     size_t errlen) {
+  FILE *f;
+  PngOut *p = png_begin(path, tmp, px, &f, err, errlen);
+  if (!p) return 0;
+  char why[512] = "";
+  int ok = png_out_rows(p, px->data, px->height, why, sizeof why);
+  if (png_end(p, f, ok, why, sizeof why)) return 1;
+  set_err(err, errlen, "cannot write '%s': %s", path, why);
+  return 0;
+}
+
+/* Write px through libpng (a PNG) or the bridge to a temporary file, then
+** rename it to path. On any failure the temporary file is removed. */
 static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
                         char *err, size_t errlen) {
   char tmp[PATH_MAX + 64], why[768];
   if (!begin_write(path, tmp, sizeof tmp, err, errlen)) return 0;
+  if (format_of(path) == FMT_PNG) {
+    if (!write_png(path, tmp, px, err, errlen)) {
+      unlink(tmp);
+      return 0;
+    }
+    return end_write(path, tmp, err, errlen);
+  }
   if (!bridge->write(tmp, px, w, why, sizeof why)) {
     unlink(tmp);
     set_err(err, errlen, "cannot write '%s': %s", path, why);
@@ -416,7 +508,9 @@ static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOi
 /* ---- streamed writing ------------------------------------------------- */
 
 struct ImageStream {
-  SumiOiioStream *out;
+  SumiOiioStream *out;        /* through the bridge, or */
+  PngOut *png;                /* a PNG through libpng, on */
+  FILE *file;
   int width, height, channels;
   int next;                   /* the first row not yet written */
   int failed;                 /* why holds the first failure */
@@ -446,6 +540,12 @@ ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err
   int ac = nc == 2 || nc == 4 ? nc - 1 : -1;
   SumiOiioPixels px = {w, h, nc, SUMI_OIIO_UINT8, ac, NULL, ""};
   SumiOiioWrite how = {0, NULL, "sRGB", 0};   /* what write_encoded gives an 8-bit image */
+  if (format_of(path) == FMT_PNG) {
+    if ((s->png = png_begin(path, s->tmp, &px, &s->file, err, errlen))) return s;
+    unlink(s->tmp);
+    free(s);
+    return NULL;
+  }
   s->out = bridge->stream_open(s->tmp, &px, &how, s->why, sizeof s->why);
   if (!s->out) {
     unlink(s->tmp);
@@ -457,9 +557,19 @@ ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err
 }
 
 void image_stream_rows(ImageStream *s, int y0, int y1, const uint8_t *codes) {
-  if (!s->failed && !bridge->stream_rows(s->out, y0, y1, codes, s->why, sizeof s->why))
+  if (!s->failed && !(s->png ? png_out_rows(s->png, codes, y1 - y0, s->why, sizeof s->why)
+                             : bridge->stream_rows(s->out, y0, y1, codes, s->why, sizeof s->why)))
     s->failed = 1;
   s->next = y1;
+}
+
+/* Close s's file: 0 with the reason in s->why (unless one is there) when that fails. */
+static int stream_finish(ImageStream *s) {
+  if (s->png) return png_end(s->png, s->file, !s->failed, s->why, sizeof s->why);
+  char why[768];
+  if (bridge->stream_close(s->out, why, sizeof why)) return 1;
+  if (!s->failed) memcpy(s->why, why, sizeof why);
+  return 0;
 }
 
 void image_stream_discard(ImageStream *s) {
@@ -468,18 +578,13 @@ void image_stream_discard(ImageStream *s) {
   uint8_t *blank = xcalloc((size_t)s->width * (size_t)s->channels, 1);
   while (s->next < s->height) image_stream_rows(s, s->next, s->next + 1, blank);
   free(blank);
-  char why[768];
-  bridge->stream_close(s->out, why, sizeof why);
+  stream_finish(s);
   unlink(s->tmp);
   free(s);
 }
 
 int image_stream_close(ImageStream *s, char *err, size_t errlen) {
-  char why[768];
-  if (!bridge->stream_close(s->out, why, sizeof why) && !s->failed) {
-    s->failed = 1;
-    memcpy(s->why, why, sizeof why);
-  }
+  if (!stream_finish(s)) s->failed = 1;
   int ok = 0;
   if (s->failed) {
     unlink(s->tmp);
@@ -593,6 +698,15 @@ int image_write_opts(const char *path, const Image *img, const ImageWriteOptions
   return write_encoded(path, fmt, img, opt, err, errlen);
 }
 
+int image_write_needs_bridge(const char *path) {
+  return format_of(path) != FMT_PNG;
+}
+
+int image_read_needs_bridge(const char *name) {
+  const char *ext = path_extension(name);
+  return ext && strcasecmp(ext, "png") != 0;
+}
+
 int image_write_is_8bit(const char *path) {
   ImageFormat fmt = format_of(path);
   return fmt == FMT_PNG || fmt == FMT_TIFF || fmt == FMT_JPEG;
@@ -658,8 +772,33 @@ int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, cha
 
 /* ---- reading ------------------------------------------------------------ */
 
-/* Read path through the bridge as want (0: the file's own class). Checks
-** that path names a regular file first, for a clear message. */
+static void too_large(const char *path, const SumiOiioPixels *px, char *err, size_t errlen) {
+  set_err(err, errlen,
+          "cannot read '%s': image too large: %dx%d with %d channels (limits: %lld pixels, "
+          "IMAGE_READ_MAX_PIXELS; %d channels, IMAGE_MAX_CHANNELS)", path, px->width,
+          px->height, px->channels, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS);
+}
+
+/* A PNG through libpng, as the bridge would hand it over. */
+static int read_png(const char *path, SumiOiioPixels *px, char *err, size_t errlen) {
+  char why[512];
+  int bits, big;
+  memset(px, 0, sizeof *px);
+  if (!png_read_file(path, IMAGE_READ_MAX_PIXELS, &px->width, &px->height, &px->channels, &bits,
+                     &px->data, &big, why, sizeof why)) {
+    if (big) too_large(path, px, err, errlen);
+    else set_err(err, errlen, "cannot read '%s': corrupt or truncated image (%s)", path, why);
+    return 0;
+  }
+  px->type = bits == 16 ? SUMI_OIIO_UINT16 : SUMI_OIIO_UINT8;
+  px->alpha_channel = px->channels == 2 || px->channels == 4 ? px->channels - 1 : -1;
+  snprintf(px->format, sizeof px->format, "png");
+  return 1;
+}
+
+/* Read path through libpng (a PNG, by its signature) or the bridge as
+** want (0: the file's own class). Checks that path names a regular file
+** first, for a clear message. */
 static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err,
                        size_t errlen) {
   struct stat st;
@@ -672,6 +811,7 @@ static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err
     return 0;
   }
   char why[768];
+  if (want == 0 && png_is_png_file(path)) return read_png(path, px, err, errlen);
   if (!image_bridge_load(why, sizeof why)) {
     set_err(err, errlen, "cannot read '%s': %s", path, why);
     return 0;
@@ -679,11 +819,7 @@ static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err
   int r = bridge->read(path, want, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS, px, why,
                        sizeof why);
   if (r == SUMI_OIIO_OK) return 1;
-  if (r == SUMI_OIIO_TOO_LARGE)
-    set_err(err, errlen,
-            "cannot read '%s': image too large: %dx%d with %d channels (limits: %lld pixels, "
-            "IMAGE_READ_MAX_PIXELS; %d channels, IMAGE_MAX_CHANNELS)", path, px->width,
-            px->height, px->channels, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS);
+  if (r == SUMI_OIIO_TOO_LARGE) too_large(path, px, err, errlen);
   else
     set_err(err, errlen, "cannot read '%s': %s (%s)", path,
             r == SUMI_OIIO_NOT_IMAGE ? "not an image sumi can read" : "corrupt or truncated image",

@@ -6,8 +6,11 @@
 ** and linear alpha, as image_encode8 makes them; a frame bound for an
 ** 8-bit file is kept that way, a quarter of the memory of float.
 **
-** Files go through OpenImageIO, behind a bridge library loaded on first
-** use (image_oiio.h). The format comes from the extension:
+** PNG goes through libpng (png_file.h); the other formats through
+** OpenImageIO, behind a bridge library loaded on first use (image_oiio.h),
+** so that a process that touches only PNG never loads OIIO's ~260 shared
+** libraries. The format comes from the extension (a file read is taken as
+** PNG by its signature):
 **   png, tif/tiff, jpg/jpeg  sRGB-encoded from linear, 8-bit (png and tif
 **                            may be 16-bit); alpha stays linear; no dither
 **   exr                      linear float (or half); alpha associated, as
@@ -134,5 +137,21 @@ int image_bridge_load(char *err, size_t errlen);
 /* Seconds the load took (dlopen of the bridge and OIIO's libraries), or 0
 ** if it has not happened: reported apart from encode times in --stats. */
 double image_bridge_load_seconds(void);
+/* Seconds callers of image_bridge_load (the reads and writes) spent
+** waiting for it: all of the load without a prefetch, less with one. */
+double image_bridge_wait_seconds(void);
+/* Start loading the bridge on a thread now, for a process that will need
+** it (image_write_needs_bridge, image_read_needs_bridge): the load
+** overlaps parsing and rendering, and the first read or write that needs
+** it waits for the rest. Returns at once; later calls do nothing. */
+void image_bridge_prefetch(void);
+/* Wait for a prefetch to finish; call before the process exits, so that
+** no library is half loaded while exit runs destructors. */
+void image_bridge_join(void);
+/* Whether writing path (by its extension; image_write's formats) or
+** reading the image file named name (by its extension: a guess, for
+** prefetching only; PNG goes through libpng) needs the bridge. */
+int image_write_needs_bridge(const char *path);
+int image_read_needs_bridge(const char *name);
 
 #endif

@@ -65,3 +65,16 @@ const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const
     if (strcmp(s->params[i].pass, pass) == 0 && strcmp(s->params[i].name, name) == 0) return &s->params[i];
   return NULL;
 }
+
+int scene_any_image(const Scene *s, int (*pred)(const char *name)) {
+  if (s->output.sheet && pred(s->output.sheet)) return 1;
+  for (int i = 0; i < s->nstyles; i++) {
+    const SceneStyle *st = &s->styles[i];
+    if ((st->lines.present && st->lines.texture && pred(st->lines.texture)) ||
+        (st->shade.kind == SHADE_ORIGAMI && st->shade.origami_texture && pred(st->shade.origami_texture)))
+      return 1;
+    for (int k = 0; k < st->nparams; k++)
+      if (!strcmp(st->params[k].name, "texture") && st->params[k].str && pred(st->params[k].str)) return 1;
+  }
+  return 0;
+}

@@ -238,4 +238,9 @@ SceneStyle scene_default_style(void);
 /* A pass parameter without a field of its own, or NULL when not given. */
 const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const char *name);
 
+/* Whether pred holds for a name of an image the scene may read: a line or
+** origami texture, a texture parameter (noise, pattern, threshold), the
+** output sheet (built-in names included: pred tells them apart). */
+int scene_any_image(const Scene *s, int (*pred)(const char *name));
+
 #endif

@@ -1,12 +1,14 @@
 /*
-** Unit tests of image I/O (src/io/image.c and the OpenImageIO bridge):
-** exact sRGB coding, round trips through every format, unassociated alpha,
-** the temporary-file rule, AOV and id outputs, and bad files that must give
-** an error rather than a crash. Files go under a fresh build/ directory.
+** Unit tests of image I/O (src/io/image.c, libpng for PNG and the
+** OpenImageIO bridge): exact sRGB coding, round trips through every
+** format, unassociated alpha, the temporary-file rule, AOV and id outputs,
+** PNG without the bridge, and bad files that must give an error rather
+** than a crash. Files go under a fresh build/ directory.
 */
 #include "../../src/io/image.h"
 #include "unit.h"
 
+#include <png.h>
 #include <dirent.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -626,6 +628,122 @@ TEST(limits) {
 
 /* ---- the bridge ------------------------------------------------------------ */
 
+/* Whether a shared library whose path contains name is mapped in this process. */
+static int library_mapped(const char *name) {
+  FILE *f = fopen("/proc/self/maps", "r");
+  char line[1024];
+  int found = 0;
+  while (f && !found && fgets(line, sizeof line, f)) found = strstr(line, name) != NULL;
+  if (f) fclose(f);
+  return found;
+}
+
+/* PNG (whole, streamed, 16-bit, read back) goes through libpng: the
+** bridge and OpenImageIO's libraries are never loaded. Runs first. */
+TEST(png_needs_no_bridge) {
+  char err[512] = "";
+  Image *img = coded_image(31, 9, 4, 21), *back = NULL;
+  CHECK(image_write(tmp_path("plain.png"), img, err, sizeof err));
+  CHECK(image_read(tmp_path("plain.png"), &back, err, sizeof err) && same_pixels(img, back));
+  image_destroy(back);
+  ImageWriteOptions o16 = {16, 0, 0};
+  CHECK(image_write_opts(tmp_path("deep.png"), img, &o16, err, sizeof err));
+  Image *codes = codes_image(8, 8, 3, 3);
+  ImageStream *s = image_stream_open(tmp_path("band.png"), 8, 8, 3, err, sizeof err);
+  CHECK(s != NULL);
+  if (s) {
+    image_stream_rows(s, 0, 8, codes->data8);
+    CHECK(image_stream_close(s, err, sizeof err));
+  }
+  CHECK(!image_write_needs_bridge("a.png") && image_write_needs_bridge("a.exr"));
+  CHECK(!image_read_needs_bridge("washi") && !image_read_needs_bridge("k.PNG") && image_read_needs_bridge("k.jpg"));
+  CHECK(image_bridge_load_seconds() == 0);
+  CHECK(!library_mapped("libOpenImageIO") && !library_mapped("libsumi_oiio"));
+  image_destroy(codes);
+  image_destroy(img);
+}
+
+/* A prefetch loads the bridge on its own thread: afterwards it is loaded,
+** and no caller waited for it. Runs before anything else loads it. */
+TEST(prefetch_loads_on_a_thread) {
+  char err[512] = "";
+  image_bridge_prefetch();
+  image_bridge_prefetch();   /* a second call does nothing */
+  image_bridge_join();
+  CHECK(image_bridge_load_seconds() > 0);
+  CHECK(library_mapped("libOpenImageIO"));
+  CHECK(image_bridge_wait_seconds() < 0.001);
+  CHECK(image_bridge_load(err, sizeof err));
+  CHECK(image_bridge_wait_seconds() < 0.001);   /* already loaded: no wait */
+}
+
+/* Write a w x h PNG of the given libpng layout with raw rows (test input). */
+static void write_png_raw(const char *path, int w, int h, int depth, int type, int interlace,
+                          const png_color *palette, int npal, const png_byte *trans, int ntrans,
+                          const unsigned char *rows, size_t rowbytes) {
+  FILE *f = fopen(path, "wb");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+  png_infop info = png_create_info_struct(png);
+  if (!f || !png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    if (f) fclose(f);
+    return;
+  }
+  png_init_io(png, f);
+  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, depth, type, interlace, 0, 0);
+  if (palette) png_set_PLTE(png, info, palette, npal);
+  if (trans) png_set_tRNS(png, info, trans, ntrans, NULL);
+  png_write_info(png, info);
+  int passes = png_set_interlace_handling(png);
+  for (int p = 0; p < passes; p++)
+    for (int y = 0; y < h; y++) png_write_row(png, rows + (size_t)y * rowbytes);
+  png_write_end(png, NULL);
+  png_destroy_write_struct(&png, &info);
+  fclose(f);
+}
+
+/* PNGs other writers make read as OpenImageIO reads them: a palette with
+** transparency as RGBA, 2-bit grey as 8-bit grey (codes scaled by 85),
+** 16-bit grey + alpha, and an interlaced RGB image row for row. */
+TEST(png_reads_every_layout) {
+  char err[512] = "";
+  Image *img = NULL;
+  png_color pal[2] = {{255, 0, 0}, {0, 0, 255}};
+  png_byte trans[1] = {0};
+  unsigned char idx[2] = {0x01, 0x10};   /* 8-bit indices: rows [0, 1], [1, 0] */
+  write_png_raw(tmp_path("pal.png"), 2, 2, 4, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE, pal, 2, trans, 1, idx, 1);
+  CHECK(image_read(tmp_path("pal.png"), &img, err, sizeof err));
+  if (img) {
+    CHECK(img->channels == 4 && img->width == 2);
+    CHECK(img->data[3] == 0.0f && img->data[4 + 2] == 1.0f && img->data[4 + 3] == 1.0f);
+  }
+  image_destroy(img);
+  img = NULL;
+  unsigned char grey[1] = {0x1b};   /* 2-bit codes 0, 1, 2, 3 */
+  write_png_raw(tmp_path("grey2.png"), 4, 1, 2, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, NULL, 0, NULL, 0, grey, 1);
+  CHECK(image_read(tmp_path("grey2.png"), &img, err, sizeof err));
+  if (img) {
+    CHECK(img->channels == 1);
+    for (int k = 0; k < 4; k++) CHECK(img->data[k] == image_srgb8_to_linear(85 * k));
+  }
+  image_destroy(img);
+  img = NULL;
+  unsigned char ga[4] = {0x12, 0x34, 0x80, 0x00};   /* big-endian grey 0x1234, alpha 0x8000 */
+  write_png_raw(tmp_path("ga16.png"), 1, 1, 16, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_INTERLACE_NONE, NULL, 0, NULL, 0, ga, 4);
+  CHECK(image_read(tmp_path("ga16.png"), &img, err, sizeof err));
+  if (img) CHECK(img->channels == 2 && img->data[1] == 0x8000 / 65535.0f && img->data[0] > 0 && img->data[0] < 0.01f);
+  image_destroy(img);
+  img = NULL;
+  Image *src = coded_image(13, 11, 3, 5);
+  unsigned char *rgb = malloc(13 * 11 * 3);
+  image_to_srgb8(src, rgb);
+  write_png_raw(tmp_path("adam7.png"), 13, 11, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_ADAM7, NULL, 0, NULL, 0, rgb, 13 * 3);
+  CHECK(image_read(tmp_path("adam7.png"), &img, err, sizeof err) && same_pixels(src, img));
+  free(rgb);
+  image_destroy(src);
+  image_destroy(img);
+}
+
 TEST(bridge_loaded_once) {
   char err[512] = "";
   CHECK(image_bridge_load(err, sizeof err));
@@ -642,6 +760,9 @@ int main(void) {
     perror("mkdtemp under build/");
     return 1;
   }
+  RUN(png_needs_no_bridge);          /* these two first: nothing has loaded the bridge yet */
+  RUN(prefetch_loads_on_a_thread);
+  RUN(png_reads_every_layout);
   RUN(srgb_known_values);
   RUN(srgb_codes_round_trip);
   RUN(srgb_encoder_matches_formula);
