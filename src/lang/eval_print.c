@@ -86,6 +86,16 @@ static void print_ramp(FILE *out, const char *pre, const char *key, const Color 
   fputc('\n', out);
 }
 
+static void print_bokashi(const char *pre, const ShadeBokashi *b, FILE *out) {
+  if (b->has_lit) line_color(out, pre, "lit", b->lit);
+  if (b->has_unlit) line_color(out, pre, "unlit", b->unlit);
+  line_num(out, pre, "strength_mod", b->strength_mod);
+  if (b->sphere) { fprintf(out, "%sper_pixel %s\n", pre, b->per_pixel ? "true" : "false"); return; }
+  line_num(out, pre, "offset", b->offset);
+  line_num(out, pre, "view_mod", b->view_mod);
+  line_num(out, pre, "rate", b->rate);
+}
+
 static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   static const char *names[] = {"none", "flat", "gouraud", "phong", "toon", "threshold", "bokashi", "ink", "origami"};
   fprintf(out, "%skind %s%s%s\n", pre, names[s->kind], s->subkind ? " " : "", s->subkind ? s->subkind : "");
@@ -100,10 +110,12 @@ static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
     if (s->origami_texture) fprintf(out, "%stexture \"%s\"\n", pre, s->origami_texture);
     return;
   }
+  if (s->kind == SHADE_BOKASHI) { print_bokashi(pre, &s->bokashi, out); return; }
   const ShadeToon *t = &s->toon;
   line_num(out, pre, "ambient", t->ambient);
   line_num(out, pre, "specular", t->specular);
   line_num(out, pre, "shininess", t->shininess);
+  if (s->kind == SHADE_FLAT) fprintf(out, "%slit %s\n", pre, s->lit ? "true" : "false");
   if (s->kind != SHADE_TOON) return;
   fprintf(out, "%sbands %d\n", pre, t->bands);
   line_num(out, pre, "threshold", t->threshold);
@@ -145,6 +157,23 @@ static void print_param(const char *pre, const SceneParam *p, FILE *out) {
   fputc('\n', out);
 }
 
+static void print_noise(const char *pre, const SceneNoise *n, FILE *out) {
+  if (!n->present) return;
+  line_num(out, pre, "amount", n->amount);
+  line_num(out, pre, "scale", n->scale);
+  if (n->image_name) { fprintf(out, "%simage \"%s\"\n", pre, n->image_name); return; }
+  fprintf(out, "%sseed %d\n%soctaves %d\n", pre, n->seed, pre, n->octaves);
+}
+
+static void print_pattern(const char *pre, const ScenePattern *p, FILE *out) {
+  if (!p->present) return;
+  fprintf(out, "%simage \"%s\"\n", pre, p->image_name ? p->image_name : "");
+  line_num(out, pre, "scale", p->scale);
+  line_num(out, pre, "opacity", p->opacity);
+  print_ramp(out, pre, "colors", p->colors, p->ncolors);
+  fprintf(out, "%sblend %s\n", pre, p->blend == PATTERN_MULTIPLY ? "multiply" : "over");
+}
+
 static void print_style(int i, const SceneStyle *s, FILE *out) {
   char pre[64];
   snprintf(pre, sizeof pre, "style[%d].", i);
@@ -154,6 +183,10 @@ static void print_style(int i, const SceneStyle *s, FILE *out) {
   print_shade(pre, &s->shade, out);
   snprintf(pre, sizeof pre, "style[%d].lines.", i);
   print_lines(pre, &s->lines, out);
+  snprintf(pre, sizeof pre, "style[%d].noise.", i);
+  print_noise(pre, &s->noise, out);
+  snprintf(pre, sizeof pre, "style[%d].pattern.", i);
+  print_pattern(pre, &s->pattern, out);
   snprintf(pre, sizeof pre, "style[%d].", i);
   for (int k = 0; k < s->nparams; k++) print_param(pre, &s->params[k], out);
 }
@@ -223,6 +256,7 @@ static void print_object(int i, const SceneObject *o, FILE *out) {
   if (o->tess_kind == TESS_ADAPTIVE) { fprintf(out, "%stessellate adaptive(", pre); put_num(out, o->tess_px); fputs(")\n", out); }
   else fprintf(out, "%stessellate %d\n", pre, o->tess_n);
   fprintf(out, "%stransform ", pre); put_mat(out, &o->transform); fputc('\n', out);
+  if (o->has_centre) { fprintf(out, "%scentre ", pre); put_vec3(out, o->centre); fputc('\n', out); }
   snprintf(pre, sizeof pre, "object[%d].geometry.", i);
   if (!o->geometry) return;
   if (o->geometry->kind == GEOM_PATCHES) print_patches(pre, o->geometry, out);

@@ -31,7 +31,8 @@ enum {
   R_MANY = 4,      /* takes several values (a custom converter reads them) */
   R_SYM = 8,       /* bare words in it are symbols, not names to look up */
   R_FIRST = 16,    /* converted before the others (it replaces the whole target) */
-  R_FILE = 32      /* a string naming a file (it has a `.` or a `/`) must exist */
+  R_FILE = 32,     /* a string naming a file (it has a `.` or a `/`) must exist */
+  R_POSITIVE = 64  /* a number greater than 0 (the row's lo is then not used) */
 };
 
 /* The block being checked: where params go, and its name for messages. */
@@ -65,6 +66,8 @@ struct Row {
 #define CUSTOM(n, fn, flags) {n, T_CUSTOM, 0, 0, NAN, NOFIELD, flags, NULL, fn}
 #define CUSTOM_SYM(n, fn, flags, syms) {n, T_CUSTOM, 0, 0, NAN, NOFIELD, (flags) | R_SYM, syms, fn}
 #define PARAM(n, flags) {n, T_PARAM, -INFINITY, INFINITY, NAN, NOFIELD, flags, NULL, NULL}
+#define POSITIVE(n, S, f, def) {n, T_NUM, 0, 1e12, def, offsetof(S, f), R_POSITIVE, NULL, NULL}
+#define BOOL(n, S, f) {n, T_BOOL, 0, 0, NAN, offsetof(S, f), 0, NULL, NULL}
 
 /* ---- messages ---------------------------------------------------------- */
 
@@ -121,6 +124,12 @@ static int to_number(Ctx *c, const Prop *p, int i, const Row *r, double *out) {
     char got[32];
     val_format_number(got, sizeof got, x);
     ev_error(c->ev, p->vloc[i], "`%s` in `%s` must be a whole number; found %s", p->name, c->what, got);
+    return -1;
+  }
+  if ((r->flags & R_POSITIVE) && !(x > 0 && x <= r->hi)) {
+    char got[32];
+    val_format_number(got, sizeof got, x);
+    ev_error(c->ev, p->vloc[i], "`%s` in `%s` must be greater than 0; found %s", p->name, c->what, got);
     return -1;
   }
   if (x < r->lo || x > r->hi || isnan(x)) {
@@ -575,6 +584,56 @@ static int cv_state(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* lit / unlit in shade bokashi: a colour, marked as given (the defaults
+** follow the style's base colour). */
+static int cv_bokashi_color(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ShadeBokashi *b = &((SceneShade *)t)->bokashi;
+  int lit = strcmp(r->name, "lit") == 0;
+  if (to_color(c, p, 0, lit ? &b->lit : &b->unlit)) return -1;
+  if (lit) b->has_lit = 1;
+  else b->has_unlit = 1;
+  return 0;
+}
+
+/* colors [c0, c1, ...]; in pattern: the ramp the image's grey value indexes. */
+static int cv_pattern_colors(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ScenePattern *pt = &((SceneStyle *)t)->pattern;
+  if (to_colors(c, p, &pt->colors, &pt->ncolors)) return -1;
+  if (pt->ncolors >= 2 && pt->ncolors <= SCENE_MAX_PATTERN_COLORS) return 0;
+  ev_error(c->ev, p->vloc[0], "`colors` in `pattern` takes 2 to %d colours; found %d", SCENE_MAX_PATTERN_COLORS,
+           pt->ncolors);
+  return -1;
+}
+
+/* centre [x, y, z]; in object space. */
+static int cv_centre(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneObject *o = t;
+  if (to_vec3(c, p, 0, &o->centre)) return -1;
+  o->has_centre = 1;
+  return 0;
+}
+
+/* image "file.png"; in noise or pattern: the path resolved against the
+** folder of the file that wrote it, read when the frame is prepared. */
+static int cv_image(Ctx *c, const Prop *p, const Row *r, void *t) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_STR || v->u.s->len == 0) return expect(c, p, 0, "an image file name (a string)");
+  const SrcFile *f = p->loc.file >= 0 ? diag_file(p->loc.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  char full[4096];
+  if (v->u.s->s[0] == '/' || !slash) snprintf(full, sizeof full, "%s", v->u.s->s);
+  else snprintf(full, sizeof full, "%.*s/%s", (int)(slash - f->name), f->name, v->u.s->s);
+  const char *path = scene_str(c, full), *name = scene_str(c, v->u.s->s);
+  if (strcmp(c->what, "noise") == 0) {
+    SceneNoise *n = &((SceneStyle *)t)->noise;
+    n->image = path; n->image_name = name; n->image_loc = p->vloc[0];
+  } else {
+    ScenePattern *pt = &((SceneStyle *)t)->pattern;
+    pt->image = path; pt->image_name = name; pt->image_loc = p->vloc[0];
+  }
+  return 0;
+}
+
 /* ---- tables ------------------------------------------------------------- */
 
 static const Row output_rows[] = {
@@ -612,6 +671,11 @@ static const Row style_rows[] = {
 
 static const Row shade_basic_rows[] = {LIGHTING_ROWS};
 
+static const Row shade_flat_rows[] = {
+  LIGHTING_ROWS,
+  BOOL("lit", SceneShade, lit),
+};
+
 static const Row shade_toon_rows[] = {
   LIGHTING_ROWS,
   INT("bands", SceneShade, toon.bands, 2, 256, 3),
@@ -640,9 +704,13 @@ static const Row shade_threshold_rows[] = {
 };
 
 static const Row shade_bokashi_rows[] = {
-  LIGHTING_ROWS,
-  PARAM("lit", 0), PARAM("unlit", 0), PARAM("strength_mod", 0), PARAM("offset", 0), PARAM("view_mod", 0),
-  PARAM("rate", 0), PARAM("per_pixel", 0),
+  CUSTOM("lit", cv_bokashi_color, 0),
+  CUSTOM("unlit", cv_bokashi_color, 0),
+  NUM("strength_mod", SceneShade, bokashi.strength_mod, 0, INFINITY, 1),
+  NUM("offset", SceneShade, bokashi.offset, -INFINITY, INFINITY, 0),
+  NUM("view_mod", SceneShade, bokashi.view_mod, -INFINITY, INFINITY, 0.5),
+  POSITIVE("rate", SceneShade, bokashi.rate, 1),
+  BOOL("per_pixel", SceneShade, bokashi.per_pixel),
 };
 
 static const Row shade_ink_rows[] = {
@@ -650,8 +718,20 @@ static const Row shade_ink_rows[] = {
   PARAM("levels", 0), PARAM("diffusion", R_SYM), PARAM("box_filter", 0), PARAM("color", 0),
 };
 
-static const Row texture_rows[] = {
-  PARAM("texture", R_SYM | R_FILE), PARAM("strength", 0), PARAM("scale", 0),
+static const Row noise_rows[] = {
+  NUM("amount", SceneStyle, noise.amount, 0, 1, 0.1),
+  POSITIVE("scale", SceneStyle, noise.scale, 0.25),
+  INT("seed", SceneStyle, noise.seed, 0, 2147483647, 0),
+  INT("octaves", SceneStyle, noise.octaves, 1, SCENE_MAX_NOISE_OCTAVES, 4),
+  CUSTOM("image", cv_image, R_FILE),
+};
+
+static const Row pattern_rows[] = {
+  CUSTOM("image", cv_image, R_REQUIRED | R_FILE),
+  POSITIVE("scale", SceneStyle, pattern.scale, 1),
+  NUM("opacity", SceneStyle, pattern.opacity, 0, 1, 1),
+  CUSTOM("colors", cv_pattern_colors, 0),
+  SYM("blend", SceneStyle, pattern.blend, "over|multiply"),
 };
 
 static const Row lines_rows[] = {
@@ -676,6 +756,7 @@ static const Row object_rows[] = {
   CUSTOM_SYM("tessellate", cv_tessellate, 0, "adaptive"),
   TYPED("style", T_STYLE, SceneObject, style),
   TYPED("transform", T_TRANSFORM, SceneObject, transform),
+  CUSTOM("centre", cv_centre, 0),
 };
 
 static const Row origami_rows[] = {
@@ -714,7 +795,7 @@ static const Schema schemas[] = {
   {"camera", NULL, ROWS(camera_rows), "", W_NAME, 1},
   {"light", NULL, ROWS(light_rows), "", W_NAME, 1},
   {"style", NULL, ROWS(style_rows), "shade|lines|noise|pattern", W_NAME, 1},
-  {"shade", "flat", ROWS(shade_basic_rows), "", W_KIND, 0},
+  {"shade", "flat", ROWS(shade_flat_rows), "", W_KIND, 0},
   {"shade", "gouraud", ROWS(shade_basic_rows), "", W_KIND, 0},
   {"shade", "phong", ROWS(shade_basic_rows), "", W_KIND, 0},
   {"shade", "toon", ROWS(shade_toon_rows), "", W_KIND, 0},
@@ -723,8 +804,8 @@ static const Schema schemas[] = {
   {"shade", "ink", ROWS(shade_ink_rows), "", W_KIND, 0},
   {"shade", "origami", ROWS(shade_origami_rows), "", W_KIND, 0},
   {"lines", NULL, ROWS(lines_rows), "", W_NONE, 0},
-  {"noise", NULL, ROWS(texture_rows), "", W_NONE, 0},
-  {"pattern", NULL, ROWS(texture_rows), "", W_NONE, 0},
+  {"noise", NULL, ROWS(noise_rows), "", W_NONE, 0},
+  {"pattern", NULL, ROWS(pattern_rows), "", W_NONE, 0},
   {"object", NULL, ROWS(object_rows), "", W_NAME, 1},
   {"origami", NULL, ROWS(origami_rows), "paper", W_NAME, 1},
   {"paper", NULL, ROWS(paper_rows), "", W_NONE, 0},
@@ -740,8 +821,6 @@ static const struct { const char *kind, *word, *instead; } placeholders[] = {
   {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
   {"shade", "bokashi", "`shade bokashi` is not drawn yet: the object is shaded as `shade phong`"},
   {"shade", "ink", "`shade ink` is not drawn yet: the object is shaded as `shade phong`"},
-  {"noise", NULL, "`noise` is not drawn yet: the object is drawn without it"},
-  {"pattern", NULL, "`pattern` is not drawn yet: the object is drawn without it"},
   {"output", "sheet", "`sheet` is not drawn yet: the background colour shows instead"},
 };
 
@@ -956,6 +1035,7 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   if (b->nwords > 2) return check_words(c, s, b);
   sh->loc = b->loc;
   placeholder(c, "shade", b->words[0], b->wordloc[0]);
+  sh->bokashi.sphere = !sh->subkind || strcmp(sh->subkind, "linear") != 0;   /* sphere unless linear */
   apply_defaults(s, sh);
   snprintf(c->what, sizeof c->what, "shade %s", b->words[0]);
   c->pass = "shade";
@@ -986,6 +1066,14 @@ static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
     return check_props(&sc, s, sub, &st->lines);
   }
   placeholder(c, sub->kind, NULL, kind_range(sub));
+  int noise = strcmp(sub->kind, "noise") == 0;
+  if (noise ? st->noise.present : st->pattern.present) {
+    ev_error(c->ev, sub->loc, "a style has one `%s` pass; this is the second", sub->kind);
+    return -1;
+  }
+  apply_defaults(s, st);
+  if (noise) { st->noise.present = 1; st->noise.loc = sub->loc; }
+  else { st->pattern.present = 1; st->pattern.loc = sub->loc; }
   return check_props(&sc, s, sub, st);
 }
 

@@ -127,7 +127,7 @@ int line_frame_objects(const RenderFrame *f, LineObject **out) {
     o[i].lines = ro->style && ro->style->src ? &ro->style->src->lines : NULL;
     o[i].id = i;
     o[i].hidden = ro->cull_back ? ro->backfacing : NULL;
-    if (ro->style) o[i].fill = (Color){ro->style->base[0], ro->style->base[1], ro->style->base[2], 1};
+    if (ro->style) o[i].fill = (Color){ro->style->fill[0], ro->style->fill[1], ro->style->fill[2], 1};
   }
   *out = o;
   return f->nobjects;

@@ -24,6 +24,7 @@
 #include "lines.h"
 #include "origami.h"
 #include "raster.h"
+#include "screentex.h"
 #include "shade.h"
 #include "stats.h"
 
@@ -420,6 +421,7 @@ static void prepare_view(RenderFrame *f) {
     RenderObject *o = &f->objects[i];
     object_facing(o, &f->camera);
     o->cull_back = can_cull_back(o, &f->camera);
+    shade_centre_init(f, o);
     if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
   }
 }
@@ -457,6 +459,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   }
   prepare_lights(s, f);
   prepare_view(f);
+  ok = ok && screentex_prepare(f);
   stats_record("prepare", t1 - t0 + stats_now() - t2 - retess);
   stats_record("tessellate", t2 - t1 + retess);
   stats_record_count("tessellate", "triangles", f->ntriangles);
@@ -473,6 +476,7 @@ void render_frame_free(RenderFrame *f) {
     free(o->backfacing);
     free(o->vcolor);
   }
+  screentex_free(f);
   free(f->objects);
   free(f->lights);
   free(f->styles);
@@ -727,16 +731,19 @@ static RastTarget tile_target(Worker *w, int tx, int ty, int clear) {
   return rt;
 }
 
-/* Shade the n samples of a tile row starting at plane index i into out,
-** nc floats a sample (3 or 4; the 4th is the alpha: 1 where shaded), the
-** background bg where nothing was drawn. Two passes: rebuild the surface
-** at every drawn sample into the worker's row, per run of one triangle;
-** then shade them, one span call per run of one object. */
-static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, float *out, int nc,
-                      const float bg[4], ShadeRow *row) {
+/* Shade the n samples of a tile row starting at plane index i (sample
+** (sx, sy) of the grid) into out, nc floats a sample (3 or 4; the 4th is
+** the alpha: 1 where shaded), the background bg where nothing was drawn.
+** Two passes: rebuild the surface at every drawn sample into the worker's
+** row, per run of one triangle; then shade them, one span call per run of
+** one object, with its noise and pattern over them. */
+static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, int sy, int n, float *out,
+                      int nc, const float bg[4], ShadeRow *row) {
   const int32_t *obj = rt->object + i, *face = rt->face + i;
   const RenderObject *objects = job->f->objects;
   row->face = face;
+  row->sx0 = sx;
+  row->sy = sy;
   row->bary = (const float(*)[2])rt->bary + i;
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface, left to right */
     if (obj[k] < 0) { e = k + 1; continue; }            /* background: its lanes go unused */
@@ -755,6 +762,7 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int n, fl
     for (e = k + 1; e < n && obj[e] == obj[k]; e++) {}
     const RenderObject *o = &objects[obj[k]];
     job->span[o->style - job->f->styles](row, o, k, e, out, nc);
+    if (o->tex) screentex_span(row, o, k, e, out, nc);
     if (nc == 4)
       for (int j = k; j < e; j++) out[j * 4 + 3] = 1;
   }
@@ -797,7 +805,7 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, Sh
       if (empty)
         for (int k = 0; k < n * nc; k++) img->data[at + k] = bgu[k % nc];
       else
-        shade_row(job, rt, i, n, &img->data[at], nc, bgu, row);
+        shade_row(job, rt, i, rt->x0, y, n, &img->data[at], nc, bgu, row);
       continue;
     }
     uint8_t *d = &img->data8[at];
@@ -812,7 +820,7 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, Sh
       memcpy(d, bgrow, (size_t)(n * nc));
       continue;
     }
-    shade_row(job, rt, i, n, prow, nc, bgu, row);
+    shade_row(job, rt, i, rt->x0, y, n, prow, nc, bgu, row);
     for (int e, j = 0; j < n; j = e) {   /* runs of background and of shaded samples */
       int back = obj[j] < 0;
       for (e = j + 1; e < n && (obj[e] < 0) == back; e++) {}
@@ -839,7 +847,7 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, int empty, floa
   for (int py = rt->y0 / N; py < rt->y1 / N; py++) {
     for (int r = 0; r < N; r++) {    /* the pixel row's N sample rows, shaded */
       int i = (py * N + r - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-      shade_row(job, rt, i, n, rows + (size_t)r * n * 4, 4, bgp, row);
+      shade_row(job, rt, i, rt->x0, py * N + r, n, rows + (size_t)r * n * 4, 4, bgp, row);
     }
     float *o = row_out(job, rt->x0 / N, py, prow), *o0 = o;
     for (int px = 0; px < n / N; px++, o += nc) {

@@ -98,7 +98,19 @@ typedef struct RenderStyle {
   float spec_cut;              /* n.h below which T_n(f_s) is surely 0 */
   float edge;                  /* n.v cutoff, 0 = no silhouette ramp */
   float edge_color[3];
+  int lit;                     /* flat: 0 = the base colour as it is */
+  float fill[3];               /* the flat colour of its regions in an SVG */
+  float lit_color[3], unlit_color[3];   /* bokashi: the gradation's two ends */
+  const struct ScreenTex *tex; /* its noise and pattern layer (screentex.h), or NULL */
 } RenderStyle;
+
+/* Where an object's centre (SceneObject.centre) lands: the noise, the
+** pattern and both bokashi follow it. */
+typedef struct RenderCentre {
+  float world[3];              /* world space */
+  float px[2];                 /* screen position in output pixels (y down) */
+  float wpp;                   /* scene units one output pixel spans at its depth */
+} RenderCentre;
 
 /* One object ready to draw. Its mesh stays in object space (the line
 ** stages want it there, with object_to_world); the rasterizer and shading
@@ -117,6 +129,9 @@ typedef struct RenderObject {
   int cull_back;               /* closed, outward and seen from outside: back faces
                                   are hidden, the rasterizer skips them */
   float (*vcolor)[3];          /* gouraud: per-vertex lit colour, else NULL */
+  RenderCentre centre;
+  const struct ScreenTexObject *tex;   /* its noise and pattern mapping, or NULL */
+  struct BokashiObject *bokashi;       /* its bokashi constants (shade_bokashi.c), or NULL */
 } RenderObject;
 
 typedef struct RenderFrame {
@@ -132,6 +147,7 @@ typedef struct RenderFrame {
   RenderStyle *styles;         /* Scene.styles, then the default style */
   SceneStyle default_style;
   long long ntriangles;
+  struct ScreenTexFrame *screentex;   /* the noise and pattern layers (screentex.h) */
 } RenderFrame;
 
 /* Output size from the scene and -W/-H (0 = not given): both given wins;

@@ -86,6 +86,26 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->edge_color[0] = t->edge_color.r;
   rs->edge_color[1] = t->edge_color.g;
   rs->edge_color[2] = t->edge_color.b;
+  rs->lit = st->shade.kind != SHADE_FLAT || st->shade.lit;
+  for (int c = 0; c < 3; c++) rs->fill[c] = rs->base[c];
+}
+
+void shade_centre_init(const RenderFrame *f, RenderObject *o) {
+  const Camera *c = &f->camera;
+  Vec3 w = m4_point(o->object_to_world, o->src->has_centre ? o->src->centre : v3(0, 0, 0));
+  RenderCentre *rc = &o->centre;
+  rc->world[0] = (float)w.x; rc->world[1] = (float)w.y; rc->world[2] = (float)w.z;
+  double clip[4];
+  camera_to_clip(c, w, clip);
+  double iw = clip[3] > 1e-12 ? 1 / clip[3] : 1e12;   /* behind the eye: far off screen */
+  rc->px[0] = (float)((clip[0] * iw + 1) * 0.5 * c->width);
+  rc->px[1] = (float)((1 - clip[1] * iw) * 0.5 * c->height);
+  if (c->kind == CAMERA_ORTHO) {
+    rc->wpp = (float)(c->ortho_height / c->height);
+  } else {   /* depth along forward over the focal length in pixels; at least the near plane's */
+    double z = fmax(v3_dot(v3_sub(w, c->eye), c->forward), c->znear);
+    rc->wpp = (float)(z * 2 * tan(c->fov * M_PI / 360) / c->height);
+  }
 }
 
 /* ---- rows of samples ---------------------------------------------------- */
@@ -186,6 +206,8 @@ void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSamp
   s->v[0] = r->vx[k]; s->v[1] = r->vy[k]; s->v[2] = r->vz[k];
   s->uv[0] = r->u[k];
   s->uv[1] = r->v[k];
+  s->sx = r->sx0 + k;
+  s->sy = r->sy;
 }
 
 /* ---- lights and terms ----------------------------------------------------- */
@@ -223,9 +245,10 @@ void shade_phong(const ShadeSample *s, float rgb[3]) {
 }
 
 /* Flat: the lighting of the triangle's own plane, its normal turned toward
-** the viewer like the shading normal. */
+** the viewer like the shading normal; unlit (lit false), the base colour. */
 void shade_flat(const ShadeSample *s, float rgb[3]) {
   const RenderObject *o = s->obj;
+  if (!o->style->lit) { shade_unlit(s, rgb); return; }   /* lit false: one colour on every face */
   const int *t = o->mesh->tri[s->face];
   const float *a = o->wpos[t[0]], *b = o->wpos[t[1]], *c = o->wpos[t[2]];
   float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};

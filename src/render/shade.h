@@ -35,6 +35,7 @@ typedef struct ShadeSample {
   float n[3];          /* unit shading normal, turned toward the viewer */
   float v[3];          /* unit vector toward the viewer */
   float uv[2];
+  int sx, sy;          /* its column and row in the frame's sample grid */
 } ShadeSample;
 
 /* A shading model: the linear colour of s into rgb. */
@@ -50,7 +51,9 @@ ShadeFn shade_model(ShadeKind kind);
 ** barycentrics bary[k] (the G-buffer's planes); the rebuilt planes hold its
 ** world point p, unit shading normal n (turned toward the viewer on a back
 ** face), unit vector v toward the viewer, and uv (0 unless some style
-** reads it). */
+** reads it). Screen-space models (bokashi linear, the noise and pattern
+** layer) read the samples' grid positions: sample k is at column sx0 + k
+** of row sy, in samples (frame->samples a pixel side). */
 typedef struct ShadeRow {
   const RenderFrame *frame;
   const int32_t *face;
@@ -59,6 +62,7 @@ typedef struct ShadeRow {
   float *nx, *ny, *nz;
   float *vx, *vy, *vz;
   float *u, *v;
+  int sx0, sy;         /* sample 0's column and the row in the frame's sample grid */
 } ShadeRow;
 
 /* Samples shade_row_rebuild works on side by side. */
@@ -167,6 +171,10 @@ static inline float shade_step(float x, float t, int n) { return shade_step_inv(
 ** the phong terms at each vertex with its normal turned toward the
 ** viewer. */
 void shade_vertex_colors(const RenderFrame *f, RenderObject *o);
+
+/* The centre of o (SceneObject.centre, default its origin) in world space
+** and on f's screen (o->centre). */
+void shade_centre_init(const RenderFrame *f, RenderObject *o);
 
 /* Models (shade_model's table). */
 void shade_unlit(const ShadeSample *s, float rgb[3]);

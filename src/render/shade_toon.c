@@ -209,6 +209,6 @@ void shade_toon(const ShadeSample *s, float rgb[3]) {
   float bary[1][2] = {{s->b1, s->b2}};
   int32_t face = s->face;
   ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
-                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1]};
+                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy};
   shade_toon_span(&r, s->obj, 0, 1, rgb, 3);
 }

@@ -35,6 +35,8 @@ SceneStyle scene_default_style(void) {
   st.shade.toon.specular_bands = 2;
   st.shade.toon.specular_threshold = 0.5;
   st.shade.toon.ambient = 0.1;
+  st.shade.lit = 1;
+  st.shade.bokashi = (ShadeBokashi){.sphere = 1, .strength_mod = 1, .view_mod = 0.5, .rate = 1, .per_pixel = 1};
   st.shade.origami_color = (Color){1, 1, 0.8879231f, 1};   /* Mitani's display (1, 1, 0.95), linear */
   st.shade.origami_weights[0] = 0.675;
   st.shade.origami_weights[1] = 0.225;

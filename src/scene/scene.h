@@ -68,10 +68,25 @@ typedef struct ShadeToon {
   Color edge_color;
 } ShadeToon;
 
+/* `shade bokashi linear | sphere` (001 section 2.2.3): the gradation's two
+** colours and the paper's modifiers; sumi's readings are in docs/styles.md. */
+typedef struct ShadeBokashi {
+  int sphere;                 /* 1: bokashi 2 (sphere), 0: bokashi 1 (linear) */
+  Color lit, unlit;           /* the two ends of the gradation */
+  int has_lit, has_unlit;     /* given: else lit = base, unlit = a darker base */
+  double strength_mod;        /* s_mod: times the light's strength at the centre */
+  double offset;              /* o: the gradation point's offset along the light ray */
+  double view_mod;            /* m_base: m = (v.l) m_base, scene units */
+  double rate;                /* gradation per scene unit at the centre's depth */
+  int per_pixel;              /* sphere: 1 Phong (per pixel), 0 Gouraud (per vertex) */
+} ShadeBokashi;
+
 typedef struct SceneShade {
   ShadeKind kind;
   const char *subkind;        /* e.g. "sphere" for `shade bokashi sphere` */
   ShadeToon toon;             /* also holds specular/shininess/ambient for phong etc. */
+  int lit;                    /* shade flat: 0 = unlit, the base colour as it is */
+  ShadeBokashi bokashi;
   /* shade origami */
   int origami_mode;           /* 0 line, 1 illustration, 2 shaded */
   Color origami_color;        /* linear like every colour; default is Mitani's display (1, 1, 0.95) */
@@ -111,11 +126,49 @@ typedef struct SceneParam {
   SrcRange loc;
 } SceneParam;
 
+/* Most octaves of the procedural noise: its tile holds 8 cells across at
+** the first octave, 256 texels, so the fifth octave's cells are 2 texels. */
+#define SCENE_MAX_NOISE_OCTAVES 5
+
+/* `noise { }` (001 section 2.2.1): grain added to the object's colour in
+** screen space, following its centre. */
+typedef struct SceneNoise {
+  int present;
+  double amount;              /* the largest change of a channel, display units */
+  double scale;               /* scene units at the centre: the coarsest grain
+                                 (procedural) or one copy of the image's width */
+  int seed;
+  int octaves;                /* procedural: 1 .. SCENE_MAX_NOISE_OCTAVES */
+  const char *image;          /* resolved path of an image, or NULL: procedural */
+  const char *image_name;     /* as written, for messages */
+  SrcRange loc, image_loc;
+} SceneNoise;
+
+typedef enum { PATTERN_OVER, PATTERN_MULTIPLY } PatternBlend;
+
+/* Most stops of a pattern's colour mapping. */
+#define SCENE_MAX_PATTERN_COLORS 16
+
+/* `pattern { image "..."; }` (001 section 2.2.2): a printed pattern mapped
+** like the noise, under it. */
+typedef struct ScenePattern {
+  int present;
+  const char *image;          /* resolved path (required) */
+  const char *image_name;
+  double scale;               /* scene units one copy of the image spans */
+  double opacity;
+  Color *colors; int ncolors; /* colour mapping: the image's grey value indexes this ramp */
+  int blend;                  /* PatternBlend */
+  SrcRange loc, image_loc;
+} ScenePattern;
+
 typedef struct SceneStyle {
   const char *name;           /* NULL for an anonymous style */
   Color base;
   SceneShade shade;
   SceneLines lines;
+  SceneNoise noise;
+  ScenePattern pattern;
   int nparams;
   SceneParam *params;
   SrcRange loc;
@@ -170,6 +223,8 @@ typedef struct SceneObject {
   TessKind tess_kind;
   int tess_n;                 /* uniform: segments a patch side */
   double tess_px;             /* adaptive: screen tolerance in pixels */
+  Vec3 centre;                /* object space; noise, pattern and bokashi follow it */
+  int has_centre;
   SrcRange loc;
 } SceneObject;
 
