@@ -819,7 +819,6 @@ static const Schema schemas[] = {
 ** model, or the property of kind); a row goes when its stage lands. */
 static const struct { const char *kind, *word, *instead; } placeholders[] = {
   {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
-  {"shade", "bokashi", "`shade bokashi` is not drawn yet: the object is shaded as `shade phong`"},
   {"shade", "ink", "`shade ink` is not drawn yet: the object is shaded as `shade phong`"},
   {"output", "sheet", "`sheet` is not drawn yet: the background colour shows instead"},
 };

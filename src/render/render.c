@@ -423,6 +423,7 @@ static void prepare_view(RenderFrame *f) {
     o->cull_back = can_cull_back(o, &f->camera);
     shade_centre_init(f, o);
     if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
+    if (o->style->kind == SHADE_BOKASHI) shade_bokashi_prepare(f, o);
   }
 }
 
@@ -475,6 +476,7 @@ void render_frame_free(RenderFrame *f) {
     free(o->wcnrm);
     free(o->backfacing);
     free(o->vcolor);
+    shade_bokashi_free(o);
   }
   screentex_free(f);
   free(f->objects);

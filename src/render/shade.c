@@ -31,7 +31,7 @@ static const ShadeFn models[] = {
   /* SHADE_PHONG */     shade_phong,
   /* SHADE_TOON */      shade_toon,
   /* SHADE_THRESHOLD */ shade_phong,
-  /* SHADE_BOKASHI */   shade_phong,
+  /* SHADE_BOKASHI */   shade_bokashi,
   /* SHADE_INK */       shade_phong,
   /* SHADE_ORIGAMI */   shade_phong,
 };
@@ -42,7 +42,9 @@ ShadeFn shade_model(ShadeKind kind) {
 }
 
 ShadeSpanFn shade_span_model(ShadeKind kind) {
-  return kind == SHADE_TOON ? shade_toon_span : shade_span_generic;
+  if (kind == SHADE_TOON) return shade_toon_span;
+  if (kind == SHADE_BOKASHI) return shade_bokashi_span;
+  return shade_span_generic;
 }
 
 void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
@@ -57,8 +59,7 @@ void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1
 
 int shade_reads_uv(ShadeKind kind) {
   /* the models in this file and shade_toon.c do not; textured ones will */
-  return kind == SHADE_THRESHOLD || kind == SHADE_BOKASHI || kind == SHADE_INK ||
-         kind == SHADE_ORIGAMI;
+  return kind == SHADE_THRESHOLD || kind == SHADE_INK || kind == SHADE_ORIGAMI;
 }
 
 void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
@@ -87,7 +88,13 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->edge_color[1] = t->edge_color.g;
   rs->edge_color[2] = t->edge_color.b;
   rs->lit = st->shade.kind != SHADE_FLAT || st->shade.lit;
-  for (int c = 0; c < 3; c++) rs->fill[c] = rs->base[c];
+  const ShadeBokashi *b = &st->shade.bokashi;   /* unlit by default: the base at a quarter of its light */
+  Color lit = b->has_lit ? b->lit : st->base, unlit = b->has_unlit ? b->unlit : st->base;
+  float dim = b->has_unlit ? 1 : BOKASHI_UNLIT_DEFAULT;
+  rs->lit_color[0] = lit.r; rs->lit_color[1] = lit.g; rs->lit_color[2] = lit.b;
+  rs->unlit_color[0] = unlit.r * dim; rs->unlit_color[1] = unlit.g * dim; rs->unlit_color[2] = unlit.b * dim;
+  /* an SVG region's flat colour: the base, or a bokashi's lit end */
+  for (int c = 0; c < 3; c++) rs->fill[c] = rs->kind == SHADE_BOKASHI ? rs->lit_color[c] : rs->base[c];
 }
 
 void shade_centre_init(const RenderFrame *f, RenderObject *o) {

@@ -6,6 +6,9 @@
 **   shade_toon.c  toon: T_n bands on the diffuse and specular terms
 **                 separately, or 1D colour ramps, and the n.v silhouette
 **                 edge (004; 002 section 2)
+**   shade_bokashi.c  bokashi: the ukiyo-e gradations around the object's
+**                 centre, sphere (bokashi 2) and linear (bokashi 1) (001
+**                 section 2.2.3)
 ** The tile pass shades a row of samples in two steps: it rebuilds each
 ** sample's surface from its triangle's corners into a ShadeRow, plane by
 ** plane (shade_row_rebuild per run of samples of one triangle, several
@@ -107,9 +110,29 @@ void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1
                         int stride);
 void shade_toon_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
                      int stride);
+void shade_bokashi_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                        int stride);
+
+/* A bokashi object's constants, set once a frame (shade_bokashi_prepare). */
+typedef struct BokashiObject {
+  float k[3];                  /* sphere: sum of the lights' d^ s / |d|^2 s_mod; f = n^.k */
+  float (*snrm)[3];            /* sphere: per vertex, normalise(p - c) */
+  float g[2];                  /* linear: the gradation point on screen, output pixels */
+  float dir[2];                /* linear: unit screen direction of the light's rays at c */
+  float rate;                  /* linear: gradation per output pixel at c's depth */
+} BokashiObject;
+
+/* o->bokashi for f's camera and lights (o's centre set first), and for the
+** per-vertex sphere o->vcolor; shade_bokashi_free releases it. */
+void shade_bokashi_prepare(const RenderFrame *f, RenderObject *o);
+void shade_bokashi_free(RenderObject *o);
 
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
 int shade_reads_uv(ShadeKind kind);
+
+/* A bokashi's unlit colour when the style gives none: the base times this
+** (linear light). */
+#define BOKASHI_UNLIT_DEFAULT 0.25f
 
 /* Resolve a style's shading constants (defaults for unset values: bands
 ** 0 -> 3, specular_bands 0 -> 2, shininess 0 -> 32). */
@@ -182,5 +205,6 @@ void shade_flat(const ShadeSample *s, float rgb[3]);
 void shade_gouraud(const ShadeSample *s, float rgb[3]);
 void shade_phong(const ShadeSample *s, float rgb[3]);
 void shade_toon(const ShadeSample *s, float rgb[3]);
+void shade_bokashi(const ShadeSample *s, float rgb[3]);
 
 #endif
