@@ -40,7 +40,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    libassimp-dev clang libclang-rt-14-dev
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
-        bench-eval gallery clean help example install
+        bench-eval gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -121,6 +121,11 @@ bench-eval: deps all
 bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
 
+# Every real crease pattern in ../shared/data/cp against Flat-Folder's
+# counts (minutes; make test runs the fast rows).
+check-cp: all
+	sh tests/cp_check.sh $(BUILD)/sumi
+
 gallery: all
 	@mkdir -p docs/gallery
 	@for f in examples/*.npr; do \
@@ -145,6 +150,7 @@ help:
 	@echo "make update-snapshots / update-golden   rewrite expectations"
 	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer over lexer and parser"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
+	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/"
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

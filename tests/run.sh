@@ -106,6 +106,18 @@ for t in "$ROOT/$BUILD"/unit/test_*; do
   if [ "$q" != 0 ]; then echo "FAIL unit/$(basename "$t")"; head -20 "$OUT/$(basename "$t").stderr"; fi
 done
 
+# Real crease patterns against Flat-Folder's counts (the fast rows; all of
+# them: make check-cp). Skips cleanly without ../shared.
+line=$(sh "$ROOT/tests/cp_check.sh" "$SUMI" 5000 2>&1 | tee "$OUT/cp_check.log" | tail -1)
+p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
+q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
+s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
+if [ -z "$p" ]; then fail "cp_check (printed no count)"
+else
+  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
+  [ "$q" = 0 ] || grep FAIL "$OUT/cp_check.log" | head -20
+fi
+
 if [ "$skipped" -gt 0 ]; then echo "$passed passed, $failed failed, $skipped skipped"
 else echo "$passed passed, $failed failed"; fi
 [ "$failed" -eq 0 ]

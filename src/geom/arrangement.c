@@ -462,7 +462,12 @@ static int seg_faces(const Build *b, const SegList *s, int g, int *buf) {
     for (int side = 0; side < 2; side++)
       if (b->ef[s->edge[k]][side] >= 0) buf[n++] = b->ef[s->edge[k]][side];
   qsort(buf, (size_t)n, sizeof *buf, cmp_int);
-  return n;
+  int m = 0;                                   /* a face on both sides of an edge does not change */
+  for (int i = 0; i < n; i++) {
+    if (i + 1 < n && buf[i] == buf[i + 1]) { i++; continue; }
+    buf[m++] = buf[i];
+  }
+  return m;
 }
 
 /* out = a xor b (both ascending); returns the count. */

@@ -206,7 +206,7 @@ static void edge_pair(LayerSolver *s, int e1, int e2) {
   const int *p = s->in.edge_faces[e1], *q = s->in.edge_faces[e2];
   if (p[0] < 0 || p[1] < 0 || q[0] < 0 || q[1] < 0) return;
   int f1 = p[0], f2 = p[1], f3 = q[0], f4 = q[1];
-  if (f1 == f3 || f1 == f4 || f2 == f3 || f2 == f4) return;
+  if (f1 == f3 || f1 == f4 || f2 == f3 || f2 == f4 || f1 == f2 || f3 == f4) return;
   int o12 = var_find(s, f1, f2) >= 0, o13 = var_find(s, f1, f3) >= 0, o14 = var_find(s, f1, f4) >= 0;
   switch (o12 << 2 | o13 << 1 | o14) {
   case 0: add_same_side(s, f3, f4, f2, 1, LAYER_TACO_TORTILLA); break;
@@ -273,7 +273,7 @@ static void edge_face(LayerSolver *s) {
   for (size_t i = 0; i < n; i++) {
     int e = (int)(k[i] >> 32), f3 = (int)(uint32_t)k[i];
     int f1 = s->in.edge_faces[e][0], f2 = s->in.edge_faces[e][1];
-    if (f1 < 0 || f2 < 0 || f1 == f3 || f2 == f3) continue;
+    if (f1 < 0 || f2 < 0 || f1 == f3 || f2 == f3 || f1 == f2) continue;
     int taco = var_find(s, f1, f2) >= 0;
     add_same_side(s, f1, f2, f3, taco, taco ? LAYER_TACO_TORTILLA : LAYER_TORTILLA_TORTILLA);
   }

@@ -627,6 +627,38 @@ static void triangulate(OrigamiModel *m) {
 
 /* ---- folding ---------------------------------------------------------- */
 
+/* A face to reach across the edge u-v from face `from`, longest edges first. */
+typedef struct Reach { double len2; int face, from, u, v; } Reach;
+
+static int reach_before(const Reach *a, const Reach *b) {
+  if (a->len2 != b->len2) return a->len2 > b->len2;
+  return a->face < b->face;
+}
+
+static void reach_push(Reach *h, int *n, Reach r) {
+  int i = (*n)++;
+  for (; i > 0 && reach_before(&r, &h[(i - 1) / 2]); i = (i - 1) / 2) h[i] = h[(i - 1) / 2];
+  h[i] = r;
+}
+
+static Reach reach_pop(Reach *h, int *n) {
+  Reach top = h[0], last = h[--*n];
+  int i = 0;
+  for (;;) {
+    int c = 2 * i + 1;
+    if (c >= *n) break;
+    if (c + 1 < *n && reach_before(&h[c + 1], &h[c])) c++;
+    if (!reach_before(&h[c], &last)) break;
+    h[i] = h[c];
+    i = c;
+  }
+  if (*n > 0) h[i] = last;
+  return top;
+}
+
+/* Faces are reached across their longest edges first (a maximum spanning
+** tree by length): on a drawn crease pattern, whose angles are a little
+** off, a long edge carries the least error into the next face. */
 int origami_reflect(int nverts, const Vec2 *from, int nfaces, const int *face_start,
                     const int *face_index, int root,
                     int (*fold_edge)(void *user, int fa, int fb, int u, int v), void *user,
@@ -645,17 +677,21 @@ int origami_reflect(int nverts, const Vec2 *from, int nfaces, const int *face_st
   OrigamiXf *xf = xmalloc((size_t)(nfaces ? nfaces : 1) * sizeof *xf);
   unsigned char *seen = xcalloc((size_t)(nfaces ? nfaces : 1), 1);
   unsigned char *placed = xcalloc((size_t)(nverts ? nverts : 1), 1);
-  int *queue = xmalloc((size_t)(nfaces ? nfaces : 1) * sizeof *queue);
-  int qh = 0, qt = 0, nbad = 0;
+  Reach *heap = xmalloc((size_t)(total + 2) * sizeof *heap);
+  int nheap = 0, nbad = 0;
   for (int v = 0; v < nverts; v++) to[v] = from[v];
   if (bad_vertex) *bad_vertex = -1;
-  if (root >= 0 && root < nfaces) {
-    xf[root] = xf_identity();
-    seen[root] = 1;
-    queue[qt++] = root;
-  }
-  while (qh < qt) {
-    int f = queue[qh++];
+  if (root >= 0 && root < nfaces) reach_push(heap, &nheap, (Reach){INFINITY, root, -1, 0, 0});
+  while (nheap > 0) {
+    Reach r = reach_pop(heap, &nheap);
+    int f = r.face;
+    if (seen[f]) continue;
+    seen[f] = 1;
+    xf[f] = r.from < 0 ? xf_identity() : xf[r.from];
+    if (r.from >= 0 && fold_edge(user, r.from, f, r.u, r.v)) {
+      OrigamiXf m = xf_reflect(from[r.u], from[r.v]);
+      xf[f] = xf_mul(&xf[r.from], &m);
+    }
     for (int k = face_start[f]; k < face_start[f + 1]; k++) {    /* place f's vertices */
       int v = face_index[k];
       Vec2 p = xf_apply(&xf[f], from[v]);
@@ -670,21 +706,14 @@ int origami_reflect(int nverts, const Vec2 *from, int nfaces, const int *face_st
       int u = face_index[k], v = face_index[next];
       for (int e = edge_find(t, total, edge_key(u, v)); e >= 0 && e < total && t[e].key == edge_key(u, v); e++) {
         int g = cf[t[e].val];
-        if (seen[g]) continue;
-        seen[g] = 1;
-        xf[g] = xf[f];
-        if (fold_edge(user, f, g, u, v)) {
-          OrigamiXf r = xf_reflect(from[u], from[v]);
-          xf[g] = xf_mul(&xf[f], &r);
-        }
-        queue[qt++] = g;
+        if (!seen[g]) reach_push(heap, &nheap, (Reach){dist2(from[u], from[v]), g, f, u, v});
       }
     }
   }
   for (int f = 0; f < nfaces; f++)
     if (!seen[f]) xf[f] = xf_identity();
   if (xf_out) memcpy(xf_out, xf, (size_t)nfaces * sizeof *xf);
-  free(queue);
+  free(heap);
   free(placed);
   free(seen);
   free(xf);
