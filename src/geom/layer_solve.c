@@ -37,6 +37,9 @@ typedef struct Why { int kind, a, b; } Why;   /* crease a; constraint a; variabl
 
 typedef struct Frame { int var, trail, pos, second; } Frame;
 
+/* A per-face value valid only where gen matches (cleared by a new gen). */
+typedef struct Dense { int *gen, *val; } Dense;
+
 struct LayerSolver {
   LayerInput in;
   Arrangement arr;
@@ -49,6 +52,11 @@ struct LayerSolver {
   int *vc_start, *vc;                /* variable -> constraints */
   int *cc_start, *cc_face, *cc_comp; /* per face: the faces joined by taco-tortillas it is the tortilla of */
   int *stamp, *third, nthird;        /* scratch for transitivity */
+  int (*third_lit)[2];               /* with each third face: "f2 over f3", "f3 over f1" */
+  int (*adj)[2], *adj_start;         /* per face: (other face, variable), both ways, by face */
+  int (*cct)[2], *cct_start;         /* per face: (tortilla, group) where a taco-tortilla joins it */
+  Dense near1, near2, group1, group2, joined;   /* per-variable scatter of the above */
+  int gen;
   long trans_all, trans_reduced;     /* third faces found, before and after leaving out implied ones */
   int *tc_start, (*tc)[2];           /* cached transitivity of component variables: the other two literals */
   int cached;
@@ -389,30 +397,84 @@ static void tortilla_groups(LayerSolver *s) {
   free(t);
 }
 
-/* The group of face f among those tortilla t joins, or -1. */
-static int cc_group(const LayerSolver *s, int t, int f) {
-  int k = cc_local(s->cc_face + s->cc_start[t], s->cc_start[t + 1] - s->cc_start[t], f);
-  return k < 0 ? -1 : s->cc_comp[s->cc_start[t] + k];
+static void dense_init(Dense *d, int n) {
+  d->gen = xcalloc((size_t)n + 1, sizeof *d->gen);
+  d->val = xmalloc((size_t)(n + 1) * sizeof *d->val);
 }
 
-/* Whether one face of f1, f2, f3 is a tortilla whose taco-tortilla
-** constraints join the other two: then they lie on one side of it and the
-** three cannot form a cycle. */
-static int implied_triple(const LayerSolver *s, int f1, int f2, int f3, int c12, int c21) {
-  if (c12 >= 0 && c12 == cc_group(s, f1, f3)) return 1;
-  if (c21 >= 0 && c21 == cc_group(s, f2, f3)) return 1;
-  int c31 = cc_group(s, f3, f1);
-  return c31 >= 0 && c31 == cc_group(s, f3, f2);
+static void dense_free(Dense *d) {
+  free(d->gen);
+  free(d->val);
 }
 
-/* The third faces of variable v's transitivity constraints into s->third:
-** every face over a cell both of v's faces cover, less the implied ones. */
+static int dense_get(const Dense *d, int f, int gen) { return d->gen[f] == gen ? d->val[f] : -1; }
+
+static void scatter(Dense *d, const int (*pairs)[2], int from, int to, int gen) {
+  for (int k = from; k < to; k++) d->gen[pairs[k][0]] = gen, d->val[pairs[k][0]] = pairs[k][1];
+}
+
+/* Each face's overlapping faces with their variables, both ways round. */
+static void face_adjacency(LayerSolver *s) {
+  int nf = s->in.nfaces;
+  s->adj_start = xcalloc((size_t)nf + 1, sizeof *s->adj_start);
+  for (int v = 0; v < s->nvars; v++) s->adj_start[var_f1(s, v) + 1]++, s->adj_start[var_f2(s, v) + 1]++;
+  for (int f = 0; f < nf; f++) s->adj_start[f + 1] += s->adj_start[f];
+  int *fill = xcalloc((size_t)nf + 1, sizeof *fill);
+  s->adj = xmalloc((size_t)(2 * s->nvars + 1) * sizeof *s->adj);
+  for (int v = 0; v < s->nvars; v++) {                      /* ascending v: rows come out by face */
+    int f = var_f1(s, v), g = var_f2(s, v);
+    s->adj[s->adj_start[g] + fill[g]][0] = f, s->adj[s->adj_start[g] + fill[g]++][1] = v;
+  }
+  for (int v = 0; v < s->nvars; v++) {
+    int f = var_f1(s, v), g = var_f2(s, v);
+    s->adj[s->adj_start[f] + fill[f]][0] = g, s->adj[s->adj_start[f] + fill[f]++][1] = v;
+  }
+  free(fill);
+}
+
+/* The tortilla groups turned around: for each face, the tortillas whose
+** taco-tortillas join it, with its group there (ascending tortilla). */
+static void tortilla_index(LayerSolver *s) {
+  int nf = s->in.nfaces, total = s->cc_start[nf];
+  s->cct_start = xcalloc((size_t)nf + 1, sizeof *s->cct_start);
+  for (int k = 0; k < total; k++) s->cct_start[s->cc_face[k] + 1]++;
+  for (int f = 0; f < nf; f++) s->cct_start[f + 1] += s->cct_start[f];
+  int *fill = xcalloc((size_t)nf + 1, sizeof *fill);
+  s->cct = xmalloc((size_t)(total + 1) * sizeof *s->cct);
+  for (int t = 0; t < nf; t++)
+    for (int k = s->cc_start[t]; k < s->cc_start[t + 1]; k++) {
+      int f = s->cc_face[k];
+      s->cct[s->cct_start[f] + fill[f]][0] = t;
+      s->cct[s->cct_start[f] + fill[f]++][1] = s->cc_comp[k];
+    }
+  free(fill);
+}
+
+/* The third faces of variable v's transitivity constraints into s->third
+** (with their literals in s->third_lit): every face over a cell both of
+** v's faces cover, less those a tortilla's taco-tortillas already keep
+** from a cycle (one of the three faces joins the other two on one side). */
 static int third_faces(LayerSolver *s, int v) {
   const Arrangement *a = &s->arr;
-  int f1 = var_f1(s, v), f2 = var_f2(s, v), gen = ++s->stamp[s->in.nfaces];
+  int f1 = var_f1(s, v), f2 = var_f2(s, v), gen = ++s->gen;
+  scatter(&s->near1, (const int (*)[2])s->adj, s->adj_start[f1], s->adj_start[f1 + 1], gen);
+  scatter(&s->near2, (const int (*)[2])s->adj, s->adj_start[f2], s->adj_start[f2 + 1], gen);
+  for (int k = s->cc_start[f1]; k < s->cc_start[f1 + 1]; k++)
+    s->group1.gen[s->cc_face[k]] = gen, s->group1.val[s->cc_face[k]] = s->cc_comp[k];
+  for (int k = s->cc_start[f2]; k < s->cc_start[f2 + 1]; k++)
+    s->group2.gen[s->cc_face[k]] = gen, s->group2.val[s->cc_face[k]] = s->cc_comp[k];
+  for (int i = s->cct_start[f1], j = s->cct_start[f2]; i < s->cct_start[f1 + 1] && j < s->cct_start[f2 + 1];) {
+    if (s->cct[i][0] < s->cct[j][0]) i++;                  /* tortillas joining f1 and f2 */
+    else if (s->cct[j][0] < s->cct[i][0]) j++;
+    else {
+      if (s->cct[i][1] == s->cct[j][1]) s->joined.gen[s->cct[i][0]] = gen;
+      i++, j++;
+    }
+  }
+  int c12 = dense_get(&s->group1, f2, gen), c21 = dense_get(&s->group2, f1, gen);
   const int *x = a->face_cell + a->face_cell_start[f1], *xe = a->face_cell + a->face_cell_start[f1 + 1];
   const int *y = a->face_cell + a->face_cell_start[f2], *ye = a->face_cell + a->face_cell_start[f2 + 1];
-  int n = 0;
+  int n = 0, m = 0;
   s->stamp[f1] = s->stamp[f2] = gen;
   while (x < xe && y < ye) {
     if (*x < *y) x++;
@@ -420,15 +482,21 @@ static int third_faces(LayerSolver *s, int v) {
     else {
       for (int k = a->cell_face_start[*x]; k < a->cell_face_start[*x + 1]; k++) {
         int f3 = a->cell_face[k];
-        if (s->stamp[f3] != gen) s->stamp[f3] = gen, s->third[n++] = f3;
+        if (s->stamp[f3] == gen) continue;
+        s->stamp[f3] = gen;
+        n++;
+        if ((c12 >= 0 && dense_get(&s->group1, f3, gen) == c12) ||
+            (c21 >= 0 && dense_get(&s->group2, f3, gen) == c21) || s->joined.gen[f3] == gen)
+          continue;
+        s->third[m] = f3;
+        s->third_lit[m][0] = 2 * s->near2.val[f3] + (f2 > f3);
+        s->third_lit[m][1] = 2 * s->near1.val[f3] + (f3 > f1);
+        m++;
       }
       x++, y++;
     }
   }
   s->trans_all += n;
-  int c12 = cc_group(s, f1, f2), c21 = cc_group(s, f2, f1), m = 0;
-  for (int k = 0; k < n; k++)
-    if (!implied_triple(s, f1, f2, s->third[k], c12, c21)) s->third[m++] = s->third[k];
   s->trans_reduced += m;
   return s->nthird = m;
 }
@@ -532,10 +600,10 @@ static int check_triple(LayerSolver *s, int v, int f3, const int lit[3]) {
   return 1;
 }
 
-static void triple_lits(const LayerSolver *s, int v, int f3, int lit[3]) {
+static void triple_lits(const LayerSolver *s, int v, int k, int lit[3]) {
   lit[0] = 2 * v;
-  lit[1] = lit_of(s, var_f2(s, v), f3);
-  lit[2] = lit_of(s, f3, var_f1(s, v));
+  lit[1] = s->third_lit[k][0];
+  lit[2] = s->third_lit[k][1];
 }
 
 /* Every constraint of variable v, just assigned. */
@@ -552,7 +620,7 @@ static int visit(LayerSolver *s, int v) {
   }
   int n = third_faces(s, v);
   for (int k = 0; k < n; k++) {
-    triple_lits(s, v, s->third[k], lit);
+    triple_lits(s, v, k, lit);
     if (!check_triple(s, v, s->third[k], lit)) return 0;
   }
   return 1;
@@ -627,7 +695,7 @@ static void components(LayerSolver *s) {
     }
     int n = third_faces(s, v), lit[3];
     for (int k = 0; k < n; k++) {
-      triple_lits(s, v, s->third[k], lit);
+      triple_lits(s, v, k, lit);
       gac(s, lit, 3, VALID_TRANS, imp, &dead);
       if (dead) continue;
       union_vars(s, up, v, lit, 3);
@@ -726,10 +794,15 @@ LayerSolver *layer_new(const LayerInput *in, char *err, size_t errlen) {
   s->trail = xmalloc((size_t)(nv + 1) * sizeof *s->trail);
   s->stamp = xcalloc((size_t)nf + 1, sizeof *s->stamp);
   s->third = xmalloc((size_t)(nf + 1) * sizeof *s->third);
+  s->third_lit = xmalloc((size_t)(nf + 1) * sizeof *s->third_lit);
+  Dense *d[5] = {&s->near1, &s->near2, &s->group1, &s->group2, &s->joined};
+  for (int i = 0; i < 5; i++) dense_init(d[i], nf);
+  face_adjacency(s);
   edge_edge(s);
   edge_face(s);
   var_cons_index(s);
   tortilla_groups(s);
+  tortilla_index(s);
   s->stats.points = s->arr.npoints;
   s->stats.segments = s->arr.nsegs;
   s->stats.cells = s->arr.ncells;
@@ -751,6 +824,13 @@ void layer_free(LayerSolver *s) {
   free(s->trail);
   free(s->stamp);
   free(s->third);
+  free(s->third_lit);
+  free(s->adj);
+  free(s->adj_start);
+  free(s->cct);
+  free(s->cct_start);
+  Dense *d[5] = {&s->near1, &s->near2, &s->group1, &s->group2, &s->joined};
+  for (int i = 0; i < 5; i++) dense_free(d[i]);
   free(s->cons);
   free(s->vc_start);
   free(s->vc);
@@ -778,7 +858,8 @@ int layer_ncomponents(const LayerSolver *s) { return s->ncomp; }
 int layer_component_vars(const LayerSolver *s, int c) { return s->comp_start[c + 1] - s->comp_start[c]; }
 
 int layer_component_faces(const LayerSolver *s, int c, int *faces) {
-  int n = 0, gen = ++s->stamp[s->in.nfaces];
+  LayerSolver *w = (LayerSolver *)s;          /* only the scratch stamps change */
+  int n = 0, gen = ++w->gen;
   for (int k = s->comp_start[c]; k < s->comp_start[c + 1]; k++) {
     int v = s->comp_var[k], f[2] = {var_f1(s, v), var_f2(s, v)};
     for (int i = 0; i < 2; i++)
@@ -863,7 +944,7 @@ long layer_check(const LayerSolver *s, int (*above)(void *user, int i, int j), v
   for (int v = 0; v < s->nvars; v++) {
     int n = third_faces(w, v), lit[3];
     for (int k = 0; k < n; k++) {
-      triple_lits(s, v, s->third[k], lit);
+      triple_lits(s, v, k, lit);
       if (gac(s, lit, 3, VALID_TRANS, imp, &dead) < 0 && broken++ == 0)
         *conflict = (LayerConflict){.kind = LAYER_TRANSITIVITY, .nfaces = 3,
                                     .faces = {var_f1(s, v), var_f2(s, v), s->third[k], -1}};
