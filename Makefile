@@ -37,7 +37,7 @@ UNIT_BIN := $(UNIT_SRC:tests/unit/%.c=$(BUILD)/unit/%)
 TOOLS    := $(BUILD)/imgcmp
 
 DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
-                   libassimp-dev clang libclang-rt-14-dev
+                   libassimp-dev clang libclang-rt-14-dev assimp-testmodels
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
         bench-eval gallery clean help example install check-cp

@@ -1,10 +1,12 @@
 /*
-** The reference image: the tiles the edges cross, the meshes' depth in
-** them, then every important edge drawn with its id (depth-tested against
-** the surfaces with the offset rule of edgeref.h, depth-writing), in id
-** order. Work is split into horizontal bands; each band sees every
-** triangle and edge in the same order, so the image never depends on the
-** number of workers.
+** The reference image: every important edge sampled at points of its
+** exact projected line, one a step of its walk; the samples binned into
+** tiles; every triangle of every mesh tested at the samples of the tiles
+** it reaches (the nearest wins); then each sample found visible or hidden
+** by the offset rule of edgeref.h. Work is split into bands of tile rows;
+** each band sees every triangle in the same order, so the result never
+** depends on the number of workers. line_object_ids rasterizes the same
+** triangles at pixel centres for the SVG's filled regions.
 */
 #include "edgeref.h"
 
@@ -13,6 +15,12 @@
 #include <string.h>
 
 #include "../base/mem.h"
+
+/* Samples are binned in tiles of LINE_REF_TILE x LINE_REF_TILE pixels:
+** a triangle is tested only at the samples of the tiles its box reaches,
+** so the work follows the length of the lines, not the resolution. */
+#define LINE_REF_TILE_BITS 3
+#define LINE_REF_TILE (1 << LINE_REF_TILE_BITS)
 
 /* ---- screen triangles ---------------------------------------------------- */
 
@@ -35,15 +43,15 @@ static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, 
   *n = (float)((1 - c[2] * iw) * 0.5);
 }
 
-/* Which tiles get depth: the summed-area table (tw + 1) x (th + 1) of the
-** tiles with storage; NULL keeps every triangle. */
+/* Which tiles hold samples: the summed-area table (tw + 1) x (th + 1) of
+** them; NULL keeps every triangle. */
 typedef struct TileSat {
   int tw, th;
   const int *sat;
-  const int *tile;   /* tw * th: the tile's storage block, -1 = none (LineRef.tile) */
+  const int *tile;   /* tw * th: the tile's first sample, -1 = none */
 } TileSat;
 
-/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] have storage? */
+/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold samples? */
 static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
   if (tx0 < 0) tx0 = 0;
   if (ty0 < 0) ty0 = 0;
@@ -82,7 +90,7 @@ static void append_tri(TriList *l, const float *p, double ymin, double ymax, int
 }
 
 /* Append the triangle p (as append_tri) if it has area and reaches a tile
-** with storage (any tile when m is NULL). */
+** with samples (any tile when m is NULL). */
 static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h,
                      const TileSat *m) {
   double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
@@ -90,7 +98,7 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
   if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
   if (m && !sat_any(m, (int)fmax(0, xmin) >> LINE_REF_TILE_BITS, (int)fmax(0, ymin) >> LINE_REF_TILE_BITS,
                     (int)fmin(w - 1, xmax) >> LINE_REF_TILE_BITS, (int)fmin(h - 1, ymax) >> LINE_REF_TILE_BITS))
-    return;   /* no edge near it: nothing will read its depth */
+    return;   /* no edge near it: nothing will test against it */
   append_tri(l, p, ymin, ymax, obj, tri, factor, h);
 }
 
@@ -131,7 +139,7 @@ typedef struct ScreenVert { float x, y, n; int in, tile; } ScreenVert;
 /* Triangle t of object obj whose corners are all in front of the near
 ** plane: what add_clipped does for it (the polygon is the triangle
 ** itself), with the cheap rejections (off the image, no tile with
-** storage) before the slope arithmetic of append_tri. */
+** samples) before the slope arithmetic of append_tri. */
 static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, const ScreenVert *c,
                       int obj, int tri, double factor, int w, int h, const TileSat *m) {
   /* all three corners in one tile (most small triangles): so is the box,
@@ -196,44 +204,339 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
   }
 }
 
-/* Where the raster writes: the tiled buffers of a LineRef, and optionally
-** a dense row-major image of object indices (line_object_ids). */
-typedef struct RefTarget {
-  const LineRef *ref;
-  int32_t *ids;
-  const uint8_t *walk;   /* NULL, or per row of each block (block * LINE_REF_TILE + (y & 7)):
-                            bit x & 7 set where some edge's walk steps, the only pixels
-                            whose depth is read (edgeref.h); the rest are left empty */
-} RefTarget;
+/* ---- edge spans ---------------------------------------------------------- */
 
-_Static_assert(LINE_REF_TILE == 8, "a row of a tile's walk mask is a byte, a tile's eight a word");
-
-/* The pixels of [xa, xb] (in one tile) of row y of block b that the
-** raster must write: bit x & (LINE_REF_TILE - 1). */
-static unsigned run_pixels(const RefTarget *rt, int b, int y, int xa, int xb) {
-  unsigned bits = (0xFFu << (xa & (LINE_REF_TILE - 1))) & (0xFFu >> (LINE_REF_TILE - 1 - (xb & (LINE_REF_TILE - 1))));
-  if (rt->walk) bits &= rt->walk[(size_t)b * LINE_REF_TILE + (y & (LINE_REF_TILE - 1))];
-  return bits;
-}
-
-/* Pixels of row y from xa on, all in tile block b, take t's nearness (n0
-** at xa, dndx a pixel) where it is nearer; only those of bits (run_pixels). */
-static void raster_run(const ScreenTri *t, uint32_t k, const RefTarget *rt, int b, int y, int xa,
-                       unsigned bits, double n0, double dndx) {
-  const LineRef *ref = rt->ref;
-  size_t base = (size_t)b * LINE_REF_TILE_PX + ((size_t)(y & (LINE_REF_TILE - 1)) << LINE_REF_TILE_BITS);
-  int x = xa;   /* up to the last pixel of bits */
-  for (unsigned m = bits >> (xa & (LINE_REF_TILE - 1)); m; m >>= 1, x++) {
-    if (!(m & 1)) continue;
-    float nf = (float)(n0 + dndx * (x - xa));
-    size_t i = base + (x & (LINE_REF_TILE - 1));
-    if (nf > ref->near[i]) {
-      ref->near[i] = nf;
-      ref->id[i] = LINE_REF_TRI | k;
-      if (rt->ids) rt->ids[(size_t)y * ref->width + x] = t->obj;
+/* Clip the segment p0 -> p1 (t in [*t0, *t1]) to the box [0, w) x [0, h). */
+static int clip_box(double x0, double y0, double x1, double y1, double w, double h, double *t0,
+                    double *t1) {
+  double dx = x1 - x0, dy = y1 - y0;
+  double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0, w - x0, y0, h - y0};
+  for (int k = 0; k < 4; k++) {
+    if (p[k] == 0) {
+      if (q[k] < 0) return 0;
+    } else {
+      double r = q[k] / p[k];
+      if (p[k] < 0) { if (r > *t1) return 0; if (r > *t0) *t0 = r; }
+      else { if (r < *t0) return 0; if (r < *t1) *t1 = r; }
     }
   }
+  return 1;
 }
+
+/* The span of mesh edge (a, b): clipped to the near plane in clip space,
+** projected, clipped to the image. */
+static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, int h) {
+  memset(s, 0, sizeof *s);
+  double ca[4], cb[4];
+  memcpy(ca, a->clip, sizeof ca);
+  memcpy(cb, b->clip, sizeof cb);
+  double da = ca[2] + ca[3], db = cb[2] + cb[3];
+  if (da < 0 && db < 0) return;
+  s->real0 = da >= 0;
+  s->real1 = db >= 0;
+  if (da < 0 || db < 0) {   /* one end behind the near plane: move it onto it */
+    double t = da / (da - db);
+    double *m = da < 0 ? ca : cb;
+    for (int j = 0; j < 4; j++) m[j] = a->clip[j] + t * (b->clip[j] - a->clip[j]);
+  }
+  if (!(ca[3] > 0) || !(cb[3] > 0)) return;
+  float x0, y0, n0, x1, y1, n1;
+  clip_to_screen(ca, w, h, &x0, &y0, &n0);
+  clip_to_screen(cb, w, h, &x1, &y1, &n1);
+  double t0 = 0, t1 = 1, lim_w = w - 1e-3, lim_h = h - 1e-3;
+  if (!clip_box(x0, y0, x1, y1, lim_w, lim_h, &t0, &t1)) return;
+  if (t0 > 0) s->real0 = 0;
+  if (t1 < 1) s->real1 = 0;
+  s->x0 = (float)(x0 + t0 * (x1 - x0)); s->y0 = (float)(y0 + t0 * (y1 - y0));
+  s->x1 = (float)(x0 + t1 * (x1 - x0)); s->y1 = (float)(y0 + t1 * (y1 - y0));
+  s->n0 = (float)(n0 + t0 * (n1 - n0)); s->n1 = (float)(n0 + t1 * (n1 - n0));
+  s->px0 = (int)floor(fmax(0, s->x0)); s->py0 = (int)floor(fmax(0, s->y0));
+  s->px1 = (int)floor(fmax(0, s->x1)); s->py1 = (int)floor(fmax(0, s->y1));
+  if (s->px0 > w - 1) s->px0 = w - 1;
+  if (s->px1 > w - 1) s->px1 = w - 1;
+  if (s->py0 > h - 1) s->py0 = h - 1;
+  if (s->py1 > h - 1) s->py1 = h - 1;
+  int ax = abs(s->px1 - s->px0), ay = abs(s->py1 - s->py0);
+  s->nsteps = (ax > ay ? ax : ay) + 1;
+}
+
+/* ---- samples ------------------------------------------------------------- */
+
+/* The sample points of every walk, grouped by tile: sample k lies on the
+** line of edge id[k] at x[k], y[k] with nearness nr[k], and decides step
+** step[k] of that edge's walk; near[k] and tri[k] are the nearest surface
+** found there so far (0 and -1: none). */
+typedef struct Samples {
+  int tw, th;
+  int *first;          /* tw * th + 1: tile t holds samples [first[t], first[t + 1]) */
+  int *tile;           /* tw * th: first[t], or -1 for a tile without samples (TileSat.tile) */
+  int n;               /* at most LINE_MAX_STEPS */
+  float *x, *y, *nr;
+  float *near;
+  int *tri;
+  int *id, *step;      /* the edge, and the step of its walk */
+} Samples;
+
+/* Point i of span s's walk: on the exact line, at i / (nsteps - 1) of the
+** way, with its nearness (affine in screen space, as depth over w is). */
+static void span_point(const LineSpan *s, int i, float *x, float *y, float *n) {
+  float t = s->nsteps > 1 ? (float)i / (float)(s->nsteps - 1) : 0;
+  *x = s->x0 + t * (s->x1 - s->x0);
+  *y = s->y0 + t * (s->y1 - s->y0);
+  *n = s->n0 + t * (s->n1 - s->n0);
+}
+
+/* The tile of point (x, y) of a tw-tile-wide grid over a w x h image. */
+static int tile_of(float x, float y, int tw, int w, int h) {
+  int px = (int)x, py = (int)y;   /* spans are clipped to [0, w) x [0, h) */
+  px = px < 0 ? 0 : px >= w ? w - 1 : px;
+  py = py < 0 ? 0 : py >= h ? h - 1 : py;
+  return (py >> LINE_REF_TILE_BITS) * tw + (px >> LINE_REF_TILE_BITS);
+}
+
+/* Sample every step of every span of ref into *sm (counted, then placed
+** tile by tile in id and step order), with the summed-area table of the
+** tiles that hold samples in *sat. */
+static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
+  int w = ref->width, h = ref->height;
+  sm->tw = (w + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
+  sm->th = (h + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
+  size_t nt = (size_t)sm->tw * sm->th;
+  sm->first = xcalloc(nt + 1, sizeof *sm->first);
+  sm->tile = xmalloc((nt ? nt : 1) * sizeof *sm->tile);
+  sm->n = (int)ref->step0[ref->nids];
+  for (int i = 0; i < ref->nids; i++)
+    for (int k = 0; k < ref->span[i].nsteps; k++) {
+      float x, y, n;
+      span_point(&ref->span[i], k, &x, &y, &n);
+      sm->first[tile_of(x, y, sm->tw, w, h) + 1]++;
+    }
+  int W = sm->tw + 1;
+  *sat = xcalloc((size_t)W * (sm->th + 1), sizeof **sat);
+  for (int ty = 0; ty < sm->th; ty++) {
+    int run = 0;   /* tiles with samples in this row so far */
+    for (int tx = 0; tx < sm->tw; tx++) {
+      int t = ty * sm->tw + tx, on = sm->first[t + 1] > 0;
+      run += on;
+      (*sat)[(ty + 1) * W + tx + 1] = (*sat)[ty * W + tx + 1] + run;
+    }
+  }
+  for (size_t t = 0; t < nt; t++) sm->first[t + 1] += sm->first[t];
+  for (size_t t = 0; t < nt; t++) sm->tile[t] = sm->first[t + 1] > sm->first[t] ? sm->first[t] : -1;
+  size_t n = (size_t)sm->n + 1;
+  sm->x = xmalloc(n * sizeof *sm->x);
+  sm->y = xmalloc(n * sizeof *sm->y);
+  sm->nr = xmalloc(n * sizeof *sm->nr);
+  sm->near = xcalloc(n, sizeof *sm->near);
+  sm->tri = xmalloc(n * sizeof *sm->tri);
+  sm->id = xmalloc(n * sizeof *sm->id);
+  sm->step = xmalloc(n * sizeof *sm->step);
+  int *at = xmalloc((nt ? nt : 1) * sizeof *at);   /* the next free slot of each tile */
+  memcpy(at, sm->first, nt * sizeof *at);
+  for (int i = 0; i < ref->nids; i++)
+    for (int k = 0; k < ref->span[i].nsteps; k++) {
+      float x, y, nr;
+      span_point(&ref->span[i], k, &x, &y, &nr);
+      int s = at[tile_of(x, y, sm->tw, w, h)]++;
+      sm->x[s] = x;
+      sm->y[s] = y;
+      sm->nr[s] = nr;
+      sm->tri[s] = -1;
+      sm->id[s] = i + 1;
+      sm->step[s] = k;
+    }
+  free(at);
+}
+
+static void samples_free(Samples *sm) {
+  free(sm->first); free(sm->tile);
+  free(sm->x); free(sm->y); free(sm->nr); free(sm->near); free(sm->tri); free(sm->id); free(sm->step);
+}
+
+/* ---- the test ------------------------------------------------------------- */
+
+/* What the depth test of an edge needs to know about it. */
+typedef struct EdgeInfo {
+  unsigned char facing;     /* bit 0: a face of it looks at the viewer, bit 1: one looks away */
+} EdgeInfo;
+
+typedef struct RefJob {
+  LineRef *ref;
+  const TriList *tris;
+  const LineEdges *edges;
+  const EdgeInfo *info;     /* per id - 1 */
+  Samples *sm;
+  int nbands;
+  int **count;              /* per band: visible steps per id - 1 */
+} RefJob;
+
+/* Tile rows [*ty0, *ty1) of a band: bands never share a tile. */
+static void band_tiles(int th, int nbands, int band, int *ty0, int *ty1) {
+  *ty0 = (int)((long long)th * band / nbands);
+  *ty1 = (int)((long long)th * (band + 1) / nbands);
+}
+
+/* A triangle as the sample test wants it: three sides e with
+** a[e] x + b[e] y + c[e] >= 0 inside (in either winding), and its
+** nearness n(x, y) = na x + nb y + nc. */
+typedef struct TriTest { double a[3], b[3], c[3], na, nb, nc; } TriTest;
+
+static void tri_test(const ScreenTri *t, TriTest *q) {
+  double x0 = t->x[0], y0 = t->y[0];
+  double ax = t->x[1] - x0, ay = t->y[1] - y0, bx = t->x[2] - x0, by = t->y[2] - y0;
+  double det = ax * by - ay * bx, sgn = det > 0 ? 1 : -1;
+  double an = t->n[1] - t->n[0], bn = t->n[2] - t->n[0];
+  q->na = (an * by - bn * ay) / det;
+  q->nb = (bn * ax - an * bx) / det;
+  q->nc = t->n[0] - q->na * x0 - q->nb * y0;
+  for (int e = 0; e < 3; e++) {
+    int e1 = e == 2 ? 0 : e + 1;
+    double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
+    q->a[e] = -sgn * ey;
+    q->b[e] = sgn * ex;
+    q->c[e] = sgn * (ey * t->x[e] - ex * t->y[e]);
+  }
+}
+
+/* Triangle k (t) at the samples of tile rows [ty0, ty1) of its box: where
+** it covers a sample (its sides included) nearer than what was found
+** there, it is the sample's surface. */
+static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, int w) {
+  float xmin = fminf(t->x[0], fminf(t->x[1], t->x[2])), xmax = fmaxf(t->x[0], fmaxf(t->x[1], t->x[2]));
+  int tx0 = (int)fmaxf(0, xmin) >> LINE_REF_TILE_BITS, tx1 = (int)fminf((float)(w - 1), xmax) >> LINE_REF_TILE_BITS;
+  int ra = t->ymin >> LINE_REF_TILE_BITS, rb = t->ymax >> LINE_REF_TILE_BITS;
+  if (ra < ty0) ra = ty0;
+  if (rb >= ty1) rb = ty1 - 1;
+  if (tx0 > tx1 || ra > rb) return;
+  TriTest q;
+  int set = 0;   /* most triangles of a box reach no sample: set up on the first */
+  for (int ty = ra; ty <= rb; ty++)
+    for (int tx = tx0; tx <= tx1; tx++) {
+      int tile = ty * sm->tw + tx;
+      if (sm->tile[tile] < 0) continue;
+      if (!set) { tri_test(t, &q); set = 1; }
+      for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++) {
+        double x = sm->x[s], y = sm->y[s];
+        if (q.a[0] * x + q.b[0] * y + q.c[0] < 0 || q.a[1] * x + q.b[1] * y + q.c[1] < 0 ||
+            q.a[2] * x + q.b[2] * y + q.c[2] < 0)
+          continue;
+        float n = (float)(q.na * x + q.nb * y + q.nc);
+        if (n > sm->near[s]) { sm->near[s] = n; sm->tri[s] = k; }
+      }
+    }
+}
+
+/* May triangle t push its depth back for an edge facing as facing? When it
+** faces the viewer as one of the edge's faces does (front or back). A face
+** turned the other way occludes at its true depth, so an edge on the far
+** side of an object does not leak out from behind a silhouette or a
+** corner. */
+static int lenient(const RefJob *j, const ScreenTri *t, unsigned facing) {
+  return (facing & (j->edges->obj[t->obj].front[t->tri] ? 1 : 2)) != 0;
+}
+
+/* Decide sample s: visible where the nearest surface found there (pushed
+** back by its offset when lenient) does not hide it. */
+static void decide(const RefJob *j, int s, int *count) {
+  const Samples *sm = j->sm;
+  float n = sm->nr[s], limit = sm->near[s];
+  if (n <= 0) return;   /* beyond the far plane */
+  int id = sm->id[s];
+  if (sm->tri[s] >= 0) {
+    const ScreenTri *t = &j->tris->t[sm->tri[s]];
+    limit -= lenient(j, t, j->info[id - 1].facing) ? t->off : LINE_DEPTH_EPS;
+  }
+  if (n < limit) return;   /* hidden */
+  j->ref->vis[j->ref->step0[id - 1] + (size_t)sm->step[s]] = 1;
+  count[id - 1]++;
+}
+
+static void ref_band(void *ctx, int band, int worker) {
+  RefJob *j = ctx;
+  Samples *sm = j->sm;
+  int ty0, ty1;
+  band_tiles(sm->th, j->nbands, band, &ty0, &ty1);
+  int y0 = ty0 << LINE_REF_TILE_BITS, y1 = ty1 << LINE_REF_TILE_BITS;
+  for (int i = 0; i < j->tris->n; i++) {
+    const ScreenTri *t = &j->tris->t[i];
+    if (t->ymax >= y0 && t->ymin < y1) test_tri(t, i, sm, ty0, ty1, j->ref->width);
+  }
+  int s0 = sm->first[ty0 * sm->tw], s1 = sm->first[ty1 * sm->tw];
+  for (int s = s0; s < s1; s++) decide(j, s, j->count[band]);
+}
+
+static int band_count(int threads, int tile_rows) {
+  int n = threads > 1 ? threads * 4 : 1;
+  return n > tile_rows ? (tile_rows > 0 ? tile_rows : 1) : n;
+}
+
+static EdgeInfo *edge_info(const LineEdges *edges) {
+  EdgeInfo *info = xmalloc(((size_t)edges->n + 1) * sizeof *info);
+  for (int i = 0; i < edges->n; i++) {
+    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
+    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
+    info[i].facing = 0;
+    for (int k = 0; k < 2; k++)
+      if (me->f[k] >= 0) info[i].facing |= oe->front[me->f[k]] ? 1 : 2;
+  }
+  return info;
+}
+
+int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
+                   int height, int threads) {
+  memset(ref, 0, sizeof *ref);
+  ref->width = width;
+  ref->height = height;
+  ref->nids = edges->n;
+  ref->span = xcalloc((size_t)edges->n + 1, sizeof *ref->span);
+  ref->step0 = xmalloc(((size_t)edges->n + 1) * sizeof *ref->step0);
+  size_t nsteps = 0;
+  for (int i = 0; i < edges->n; i++) {
+    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
+    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
+    make_span(&ref->span[i], &oe->vert[me->v[0]], &oe->vert[me->v[1]], width, height);
+    ref->step0[i] = nsteps;
+    nsteps += (size_t)ref->span[i].nsteps;
+  }
+  ref->step0[edges->n] = nsteps;
+  ref->count = xcalloc((size_t)edges->n + 1, sizeof *ref->count);
+  ref->visible = xmalloc(((size_t)edges->n + 1) * sizeof *ref->visible);
+  if (nsteps > LINE_MAX_STEPS) return 0;
+  ref->vis = xcalloc(nsteps + 1, 1);
+  Samples sm;
+  int *sat;
+  make_samples(&sm, ref, &sat);
+  TileSat ts = {sm.tw, sm.th, sat, sm.tile};
+  TriList tris = {0, 0, NULL};
+  if (sm.n) collect_tris(&tris, edges, objs, width, height, &ts);
+  RefJob job = {ref, &tris, edges, edge_info(edges), &sm, band_count(threads, sm.th), NULL};
+  job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
+  for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
+  if (sm.n) line_parallel(job.nbands, threads, ref_band, &job);
+  for (int b = 0; b < job.nbands; b++) {
+    for (int i = 0; i < edges->n; i++) ref->count[i] += job.count[b][i];
+    free(job.count[b]);
+  }
+  free(job.count);
+  free((void *)job.info);
+  free(sat);
+  free(tris.t);
+  samples_free(&sm);
+  for (int i = 0; i < edges->n; i++)
+    if (ref->count[i] > 0) ref->visible[ref->nvisible++] = i + 1;
+  return 1;
+}
+
+void line_ref_free(LineRef *ref) {
+  free(ref->span);
+  free(ref->step0);
+  free(ref->vis);
+  free(ref->count);
+  free(ref->visible);
+  memset(ref, 0, sizeof *ref);
+}
+
+/* ---- object ids ----------------------------------------------------------- */
 
 /* The sides of a triangle as bounds on the pixel centres px of the row at
 ** py. Side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; it
@@ -293,80 +596,12 @@ static int centre_columns(double lo, double hi, int xhi, int *xa, int *xb) {
   return *xa <= *xb;
 }
 
-/* Which rows of [ra, rb], all in one tile row, need the row raster of
-** sides s: byte y & (LINE_REF_TILE - 1) of the result nonzero; 0 when none
-** do. Rounding is monotone, so over those rows each side's bound lies
-** between its values at the first and the last row (a side that is NaN at
-** either end may be anything between; it bounds nothing here). That gives
-** the columns any of the rows can reach; a row needs the raster only when
-** it has a pixel to write (run_pixels) in a tile of those columns. */
-static uint64_t reach_rows(const TriSides *s, const RefTarget *rt, int ra, int rb) {
-  const LineRef *ref = rt->ref;
-  int xhi = ref->width - 1;
-  double pa = ra + 0.5, pb = rb + 0.5, lo = 0.5, hi = xhi + 0.5;
-  for (int e = 0; e < 2; e++) {
-    double la = s->lm[e] * pa + s->lq[e], lb = s->lm[e] * pb + s->lq[e];
-    double ua = s->um[e] * pa + s->uq[e], ub = s->um[e] * pb + s->uq[e];
-    if (!isnan(la) && !isnan(lb)) {
-      double l = la < lb ? la : lb;
-      lo = l > lo ? l : lo;
-    }
-    if (!isnan(ua) && !isnan(ub)) {
-      double u = ua > ub ? ua : ub;
-      hi = u < hi ? u : hi;
-    }
-  }
-  int xa, xb;
-  if (!(lo <= hi) || !centre_columns(lo, hi, xhi, &xa, &xb)) return 0;
-  uint64_t any = 0;   /* the eight row masks of the blocks, or-ed */
-  const int *tiles = ref->tile + (size_t)(ra >> LINE_REF_TILE_BITS) * ref->tw;
-  for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
-    int b = tiles[tx];
-    if (b < 0) continue;
-    uint64_t m = ~(uint64_t)0;
-    if (rt->walk) memcpy(&m, rt->walk + (size_t)b * LINE_REF_TILE, sizeof m);
-    /* only the columns [xa, xb]: the same byte mask in every row */
-    int ca = tx == xa >> LINE_REF_TILE_BITS ? xa & (LINE_REF_TILE - 1) : 0;
-    int cb = tx == xb >> LINE_REF_TILE_BITS ? xb & (LINE_REF_TILE - 1) : LINE_REF_TILE - 1;
-    uint64_t cols = (0xFFu << ca) & (0xFFu >> (LINE_REF_TILE - 1 - cb));
-    any |= m & cols * 0x0101010101010101u;
-  }
-  return any;
-}
+/* A dense image of nearness and object ids being rasterized. */
+typedef struct IdImage { int w, h; float *near; int32_t *ids; const TriList *tris; int nbands; } IdImage;
 
-/* Row y of t (number k in its list, sides s, nearness slopes dndx, dndy):
-** pixel centres inside (edges included) in tiles with storage take its
-** nearness when it is nearer than what is there, and LINE_REF_TRI | k as
-** their id. */
-static void raster_row(const ScreenTri *t, uint32_t k, const RefTarget *rt, const TriSides *s,
-                       double dndx, double dndy, int y) {
-  const LineRef *ref = rt->ref;
-  int xhi = ref->width - 1;
-  double py = y + 0.5, lo = 0.5, hi = xhi + 0.5;
-  int xa, xb;
-  if (!tri_row(s, py, &lo, &hi) || !centre_columns(lo, hi, xhi, &xa, &xb)) return;
-  double n0 = 0;
-  int have_n0 = 0;   /* most rows write nothing: their nearness is never needed */
-  const int *tiles = ref->tile + (size_t)(y >> LINE_REF_TILE_BITS) * ref->tw;
-  for (int tx = xa >> LINE_REF_TILE_BITS; tx <= xb >> LINE_REF_TILE_BITS; tx++) {
-    int b = tiles[tx];
-    if (b < 0) continue;
-    int ta = tx << LINE_REF_TILE_BITS, tb = ta + LINE_REF_TILE - 1;
-    if (ta < xa) ta = xa;
-    if (tb > xb) tb = xb;
-    unsigned bits = run_pixels(rt, b, y, ta, tb);
-    if (!bits) continue;
-    if (!have_n0) {
-      n0 = t->n[0] + dndx * (xa + 0.5 - (double)t->x[0]) + dndy * (py - (double)t->y[0]);
-      have_n0 = 1;
-    }
-    raster_run(t, k, rt, b, y, ta, bits, n0 + dndx * (ta - xa), dndx);
-  }
-}
-
-/* Rasterize t (number k in its list) into rows [y0, y1), a tile row at a
-** time, skipping the rows reach_rows rules out. */
-static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int y0, int y1) {
+/* Rasterize t into rows [y0, y1) of im: pixel centres inside (edges
+** included) take its object where it is nearer than what is there. */
+static void raster_tri(const ScreenTri *t, IdImage *im, int y0, int y1) {
   int ya = t->ymin > y0 ? t->ymin : y0, yb = t->ymax < y1 - 1 ? t->ymax : y1 - 1;
   if (ya > yb) return;
   double x0 = t->x[0], y0d = t->y[0];
@@ -374,307 +609,42 @@ static void raster_tri(const ScreenTri *t, uint32_t k, const RefTarget *rt, int 
   double det = ax * by - ay * bx;
   double an = t->n[1] - t->n[0], bn = t->n[2] - t->n[0];
   double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
-  TriSides sides;
-  tri_sides(t, det > 0 ? 1 : -1, &sides);
-  for (int ra = ya; ra <= yb; ra = (ra | (LINE_REF_TILE - 1)) + 1) {
-    int rb = ra | (LINE_REF_TILE - 1);
-    if (rb > yb) rb = yb;
-    uint64_t rows = reach_rows(&sides, rt, ra, rb);
-    for (int y = ra; y <= rb; y++) {
-      uint64_t r = rows >> (y & (LINE_REF_TILE - 1)) * 8;   /* this row's byte and those below */
-      if (!r) break;
-      if (r & 0xFF) raster_row(t, k, rt, &sides, dndx, dndy, y);
+  TriSides s;
+  tri_sides(t, det > 0 ? 1 : -1, &s);
+  for (int y = ya; y <= yb; y++) {
+    double py = y + 0.5, lo = 0.5, hi = im->w - 0.5;
+    int xa, xb;
+    if (!tri_row(&s, py, &lo, &hi) || !centre_columns(lo, hi, im->w - 1, &xa, &xb)) continue;
+    double n0 = t->n[0] + dndx * (xa + 0.5 - x0) + dndy * (py - y0d);
+    float *near = im->near + (size_t)y * im->w;
+    int32_t *ids = im->ids + (size_t)y * im->w;
+    for (int x = xa; x <= xb; x++) {
+      float nf = (float)(n0 + dndx * (x - xa));
+      if (nf > near[x]) { near[x] = nf; ids[x] = t->obj; }
     }
   }
 }
 
-/* ---- edge spans ---------------------------------------------------------- */
-
-/* Clip the segment p0 -> p1 (t in [*t0, *t1]) to the box [0, w) x [0, h). */
-static int clip_box(double x0, double y0, double x1, double y1, double w, double h, double *t0,
-                    double *t1) {
-  double dx = x1 - x0, dy = y1 - y0;
-  double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0, w - x0, y0, h - y0};
-  for (int k = 0; k < 4; k++) {
-    if (p[k] == 0) {
-      if (q[k] < 0) return 0;
-    } else {
-      double r = q[k] / p[k];
-      if (p[k] < 0) { if (r > *t1) return 0; if (r > *t0) *t0 = r; }
-      else { if (r < *t0) return 0; if (r < *t1) *t1 = r; }
-    }
+static void ids_band(void *ctx, int band, int worker) {
+  IdImage *im = ctx;
+  int y0 = (int)((long long)im->h * band / im->nbands), y1 = (int)((long long)im->h * (band + 1) / im->nbands);
+  for (int i = 0; i < im->tris->n; i++) {
+    const ScreenTri *t = &im->tris->t[i];
+    if (t->ymax >= y0 && t->ymin < y1) raster_tri(t, im, y0, y1);
   }
-  return 1;
-}
-
-/* The span of mesh edge (a, b): clipped to the near plane in clip space,
-** projected, clipped to the image. */
-static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, int h) {
-  memset(s, 0, sizeof *s);
-  double ca[4], cb[4];
-  memcpy(ca, a->clip, sizeof ca);
-  memcpy(cb, b->clip, sizeof cb);
-  double da = ca[2] + ca[3], db = cb[2] + cb[3];
-  if (da < 0 && db < 0) return;
-  s->real0 = da >= 0;
-  s->real1 = db >= 0;
-  if (da < 0 || db < 0) {   /* one end behind the near plane: move it onto it */
-    double t = da / (da - db);
-    double *m = da < 0 ? ca : cb;
-    for (int j = 0; j < 4; j++) m[j] = a->clip[j] + t * (b->clip[j] - a->clip[j]);
-  }
-  if (!(ca[3] > 0) || !(cb[3] > 0)) return;
-  float x0, y0, n0, x1, y1, n1;
-  clip_to_screen(ca, w, h, &x0, &y0, &n0);
-  clip_to_screen(cb, w, h, &x1, &y1, &n1);
-  double t0 = 0, t1 = 1, lim_w = w - 1e-3, lim_h = h - 1e-3;
-  if (!clip_box(x0, y0, x1, y1, lim_w, lim_h, &t0, &t1)) return;
-  if (t0 > 0) s->real0 = 0;
-  if (t1 < 1) s->real1 = 0;
-  s->x0 = (float)(x0 + t0 * (x1 - x0)); s->y0 = (float)(y0 + t0 * (y1 - y0));
-  s->x1 = (float)(x0 + t1 * (x1 - x0)); s->y1 = (float)(y0 + t1 * (y1 - y0));
-  s->n0 = (float)(n0 + t0 * (n1 - n0)); s->n1 = (float)(n0 + t1 * (n1 - n0));
-  s->px0 = (int)floor(fmax(0, s->x0)); s->py0 = (int)floor(fmax(0, s->y0));
-  s->px1 = (int)floor(fmax(0, s->x1)); s->py1 = (int)floor(fmax(0, s->y1));
-  if (s->px0 > w - 1) s->px0 = w - 1;
-  if (s->px1 > w - 1) s->px1 = w - 1;
-  if (s->py0 > h - 1) s->py0 = h - 1;
-  if (s->py1 > h - 1) s->py1 = h - 1;
-  int ax = abs(s->px1 - s->px0), ay = abs(s->py1 - s->py0);
-  s->nsteps = (ax > ay ? ax : ay) + 1;
-}
-
-/* ---- bands --------------------------------------------------------------- */
-
-/* What the depth test of an edge needs to know about it. */
-typedef struct EdgeInfo {
-  int obj, f0, f1, v0, v1;
-  unsigned char facing;     /* bit 0: a face of it looks at the viewer, bit 1: one looks away */
-} EdgeInfo;
-
-typedef struct RefJob {
-  LineRef *ref;
-  const TriList *tris;
-  const LineEdges *edges;
-  const EdgeInfo *info;     /* per id - 1 */
-  RefTarget rt;
-  int nbands;
-  int **count;              /* per band: pixel counts per id - 1 */
-} RefJob;
-
-/* Rows of a band: whole tile rows, so bands never share a tile. */
-static void band_rows(const RefJob *j, int band, int *y0, int *y1) {
-  int th = j->ref->th;
-  *y0 = (int)((long long)th * band / j->nbands) << LINE_REF_TILE_BITS;
-  *y1 = (int)((long long)th * (band + 1) / j->nbands) << LINE_REF_TILE_BITS;
-  if (*y1 > j->ref->height) *y1 = j->ref->height;
-}
-
-/* May triangle t push its depth back for edge e? When it faces the
-** viewer as one of e's faces does (front or back). A face turned the other
-** way occludes at its true depth, so an edge on the far side of an object
-** does not leak out from behind a silhouette or a corner. */
-static int lenient(const RefJob *j, const ScreenTri *t, const EdgeInfo *e) {
-  return (e->facing & (j->edges->obj[t->obj].front[t->tri] ? 1 : 2)) != 0;
-}
-
-/* Draw span s (id) into rows [y0, y1): where it is not behind the nearest
-** surface (pushed back by its offset when lenient) or an earlier edge, the
-** pixel takes the id and the edge's nearness. */
-static void draw_span(const RefJob *j, const LineSpan *s, uint32_t id, int *count, int y0, int y1) {
-  int ymin = s->py0 < s->py1 ? s->py0 : s->py1, ymax = s->py0 < s->py1 ? s->py1 : s->py0;
-  if (ymax < y0 || ymin >= y1) return;
-  LineRef *ref = j->ref;
-  const EdgeInfo *e = &j->info[id - 1];
-  float dn = s->nsteps > 1 ? (s->n1 - s->n0) / (float)(s->nsteps - 1) : 0;
-  LineSpanWalk w;
-  line_span_walk_start(&w, s);
-  for (int i = 0; i < s->nsteps; i++, line_span_walk_next(&w)) {
-    int x = w.x, y = w.y;
-    if (y < y0 || y >= y1) continue;
-    long at = line_ref_at(ref, x, y);   /* always stored: the walk made the tile */
-    if (at < 0) continue;
-    float n = s->n0 + dn * (float)i, limit = ref->near[at];
-    uint32_t old = ref->id[at];
-    if (old & LINE_REF_TRI) {   /* a surface: pushed back when lenient */
-      const ScreenTri *t = &j->tris->t[old & ~LINE_REF_TRI];
-      limit -= lenient(j, t, e) ? t->off : LINE_DEPTH_EPS;
-      old = 0;
-    }
-    if (n < limit || n <= 0) continue;   /* hidden (or beyond the far plane) */
-    if (old == id) continue;
-    /* against an earlier edge (ends meeting at a vertex): the nearer wins;
-    ** at equal depth, an edge with a face toward the viewer beats one
-    ** without, else the earlier stays */
-    if (old && n <= limit + LINE_DEPTH_EPS && !((e->facing & 1) && !(j->info[old - 1].facing & 1)))
-      continue;
-    if (old) count[old - 1]--;
-    count[id - 1]++;
-    ref->id[at] = id;
-    ref->near[at] = n;
-  }
-}
-
-static void ref_band(void *ctx, int band, int worker) {
-  RefJob *j = ctx;
-  LineRef *ref = j->ref;
-  int y0, y1;
-  band_rows(j, band, &y0, &y1);
-  for (int i = 0; i < j->tris->n; i++) {
-    const ScreenTri *t = &j->tris->t[i];
-    if (t->ymax >= y0 && t->ymin < y1) raster_tri(t, (uint32_t)i, &j->rt, y0, y1);
-  }
-  if (!j->info) return;   /* line_object_ids: surfaces only */
-  for (int i = 0; i < ref->nids; i++)
-    if (ref->span[i].nsteps) draw_span(j, &ref->span[i], (uint32_t)i + 1, j->count[band], y0, y1);
-}
-
-static int band_count(int threads, int tile_rows) {
-  int n = threads > 1 ? threads * 4 : 1;
-  return n > tile_rows ? (tile_rows > 0 ? tile_rows : 1) : n;
-}
-
-static EdgeInfo *edge_info(const LineEdges *edges) {
-  EdgeInfo *info = xmalloc(((size_t)edges->n + 1) * sizeof *info);
-  for (int i = 0; i < edges->n; i++) {
-    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
-    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
-    EdgeInfo *e = &info[i];
-    e->obj = edges->obj_of[i];
-    e->f0 = me->f[0]; e->f1 = me->f[1];
-    e->v0 = me->v[0]; e->v1 = me->v[1];
-    e->facing = 0;
-    for (int k = 0; k < 2; k++)
-      if (me->f[k] >= 0) e->facing |= oe->front[me->f[k]] ? 1 : 2;
-  }
-  return info;
-}
-
-/* Give storage to the tiles the walks of ref's spans cross (blocks in
-** tile order) and fill *sat with the summed-area table of those tiles. */
-static void edge_tiles(LineRef *ref, int **sat) {
-  int tw = ref->tw, th = ref->th;
-  for (int i = 0; i < ref->nids; i++) {
-    LineSpanWalk w;
-    line_span_walk_start(&w, &ref->span[i]);
-    for (int k = 0; k < ref->span[i].nsteps; k++, line_span_walk_next(&w))
-      ref->tile[(w.y >> LINE_REF_TILE_BITS) * tw + (w.x >> LINE_REF_TILE_BITS)] = 0;
-  }
-  int W = tw + 1;
-  *sat = xcalloc((size_t)W * (th + 1), sizeof **sat);
-  for (int ty = 0; ty < th; ty++) {
-    int run = 0;   /* tiles with storage in this row so far */
-    for (int tx = 0; tx < tw; tx++) {
-      int *t = &ref->tile[ty * tw + tx];
-      int on = *t == 0;
-      *t = on ? ref->nblocks++ : -1;
-      run += on;
-      (*sat)[(ty + 1) * W + tx + 1] = (*sat)[ty * W + tx + 1] + run;
-    }
-  }
-}
-
-/* Per row of each block of ref, the pixels the walks of its spans visit
-** (RefTarget.walk). */
-static uint8_t *walk_masks(const LineRef *ref) {
-  uint8_t *walk = xcalloc((size_t)ref->nblocks * LINE_REF_TILE + 1, 1);
-  for (int i = 0; i < ref->nids; i++) {
-    LineSpanWalk w;
-    line_span_walk_start(&w, &ref->span[i]);
-    for (int k = 0; k < ref->span[i].nsteps; k++, line_span_walk_next(&w)) {
-      int b = ref->tile[(w.y >> LINE_REF_TILE_BITS) * ref->tw + (w.x >> LINE_REF_TILE_BITS)];
-      walk[(size_t)b * LINE_REF_TILE + (w.y & (LINE_REF_TILE - 1))] |= (uint8_t)(1u << (w.x & (LINE_REF_TILE - 1)));
-    }
-  }
-  return walk;
-}
-
-/* The tile grid of a width x height image, every tile without storage. */
-static void ref_init(LineRef *ref, int width, int height) {
-  memset(ref, 0, sizeof *ref);
-  ref->width = width;
-  ref->height = height;
-  ref->tw = (width + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
-  ref->th = (height + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
-  size_t nt = (size_t)ref->tw * ref->th;
-  ref->tile = xmalloc((nt ? nt : 1) * sizeof *ref->tile);
-  for (size_t i = 0; i < nt; i++) ref->tile[i] = -1;
-}
-
-static void ref_alloc_blocks(LineRef *ref) {
-  size_t n = (size_t)ref->nblocks * LINE_REF_TILE_PX;
-  ref->near = xcalloc(n ? n : 1, sizeof *ref->near);
-  ref->id = xcalloc(n ? n : 1, sizeof *ref->id);
-}
-
-void line_ref_blank(LineRef *ref, int width, int height) {
-  ref_init(ref, width, height);
-  for (int i = 0; i < ref->tw * ref->th; i++) ref->tile[i] = ref->nblocks++;
-  ref_alloc_blocks(ref);
-  ref->span = xcalloc(1, sizeof *ref->span);
-  ref->count = xcalloc(1, sizeof *ref->count);
-  ref->visible = xcalloc(1, sizeof *ref->visible);
-}
-
-void line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
-                    int height, int threads) {
-  ref_init(ref, width, height);
-  ref->nids = edges->n;
-  ref->span = xcalloc((size_t)edges->n + 1, sizeof *ref->span);
-  for (int i = 0; i < edges->n; i++) {
-    const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
-    const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
-    make_span(&ref->span[i], &oe->vert[me->v[0]], &oe->vert[me->v[1]], width, height);
-  }
-  int *sat;
-  edge_tiles(ref, &sat);   /* storage only where edges are */
-  ref_alloc_blocks(ref);
-  TileSat ts = {ref->tw, ref->th, sat, ref->tile};
-  TriList tris = {0, 0, NULL};
-  if (ref->nblocks) collect_tris(&tris, edges, objs, width, height, &ts);
-  uint8_t *walk = walk_masks(ref);
-  RefJob job = {ref, &tris, edges, edge_info(edges), {ref, NULL, walk}, band_count(threads, ref->th),
-                NULL};
-  job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
-  for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
-  if (ref->nblocks) line_parallel(job.nbands, threads, ref_band, &job);
-  ref->count = job.count[0];
-  for (int b = 1; b < job.nbands; b++) {
-    for (int i = 0; i < edges->n; i++) ref->count[i] += job.count[b][i];
-    free(job.count[b]);
-  }
-  free(job.count);
-  free((void *)job.info);
-  free(walk);
-  free(sat);
-  free(tris.t);
-  ref->visible = xmalloc(((size_t)edges->n + 1) * sizeof *ref->visible);
-  for (int i = 0; i < edges->n; i++)
-    if (ref->count[i] > 0) ref->visible[ref->nvisible++] = i + 1;
-}
-
-void line_ref_free(LineRef *ref) {
-  free(ref->tile);
-  free(ref->near);
-  free(ref->id);
-  free(ref->span);
-  free(ref->count);
-  free(ref->visible);
-  memset(ref, 0, sizeof *ref);
 }
 
 int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int width, int height,
                          int threads) {
   size_t npx = (size_t)width * height;
-  int32_t *ids = xmalloc((npx ? npx : 1) * sizeof *ids);
-  for (size_t i = 0; i < npx; i++) ids[i] = -1;
-  LineRef ref;
-  line_ref_blank(&ref, width, height);   /* every tile */
+  IdImage im = {width, height, xcalloc(npx ? npx : 1, sizeof(float)), xmalloc((npx ? npx : 1) * sizeof(int32_t)),
+                NULL, band_count(threads, height)};
+  for (size_t i = 0; i < npx; i++) im.ids[i] = -1;
   TriList tris = {0, 0, NULL};
   collect_tris(&tris, edges, objs, width, height, NULL);
-  RefJob job = {&ref, &tris, edges, NULL, {&ref, ids, NULL}, band_count(threads, ref.th), NULL};
-  line_parallel(job.nbands, threads, ref_band, &job);
+  im.tris = &tris;
+  line_parallel(im.nbands, threads, ids_band, &im);
   free(tris.t);
-  line_ref_free(&ref);
-  return ids;
+  free(im.near);
+  return im.ids;
 }

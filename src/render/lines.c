@@ -64,10 +64,17 @@ int line_render(const LineObject *objs, int nobj, const Camera *cam, Image *targ
   line_edges_build(&edges, objs, nobj, &ref_cam);
   double t1 = now_seconds();
   LineRef ref;
-  line_ref_build(&ref, &edges, objs, rw, rh, threads);
+  if (!line_ref_build(&ref, &edges, objs, rw, rh, threads)) {
+    snprintf(err, errlen, "the important edges come to %zu reference pixels, over the limit of %lld "
+             "(LINE_MAX_STEPS); lower ref_scale, or draw fewer kinds of edges", ref.step0[ref.nids],
+             (long long)LINE_MAX_STEPS);
+    line_ref_free(&ref);
+    line_edges_free(&edges);
+    return 0;
+  }
   double t2 = now_seconds();
   LineTrace tr;
-  line_trace_build(&tr, &ref, &edges, threads);
+  line_trace_build(&tr, &ref, &edges, (double)rw / cam->width, threads);
   double t3 = now_seconds();
   LinePolys polys;
   line_link_build(&polys, &ref, &tr, &edges);
@@ -80,7 +87,7 @@ int line_render(const LineObject *objs, int nobj, const Camera *cam, Image *targ
   double t6 = now_seconds();
 
   st.important = edges.n;
-  st.visible = ref.nvisible;
+  st.visible = tr.nvisible;
   st.segments = tr.nseg;
   st.polylines = polys.n;
   st.strokes = sl ? sl->n : 0;

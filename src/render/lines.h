@@ -25,7 +25,7 @@
 
 typedef struct LineStats {
   int objects;             /* objects drawing lines */
-  int important, visible;  /* important edges; those present in the reference image */
+  int important, visible;  /* important edges; those traced into segments */
   int segments, polylines, strokes;
   int ref_width, ref_height;
   /* seconds per stage */

@@ -63,6 +63,9 @@ static void emit_seg(Linker *L, const LineSeg *s, int obj) {
   emit(L, p, 2, obj);
 }
 
+/* Did tracing find any of id visible (a lone visible step is none)? */
+static int has_segments(const Linker *L, int id) { return L->tr->first[id] > L->tr->first[id - 1]; }
+
 /* The screen direction of id's span leaving vertex v (unit, or zero when
 ** the span has no length). */
 static void span_dir(const Linker *L, int id, int v, float *dx, float *dy) {
@@ -99,7 +102,7 @@ static int find_link(Linker *L, int obj, int v, int e, float dx, float dy, int *
         stamp[c] = cur;
         if (!id || L->used[id - 1]) continue;   /* only unused important edges */
         int other = m->edges[c].v[0] == x ? m->edges[c].v[1] : m->edges[c].v[0];
-        if (L->ref->count[id - 1] > 0) {        /* visible: a candidate */
+        if (has_segments(L, id)) {               /* visible: a candidate */
           float cx, cy;
           span_dir(L, id, x, &cx, &cy);
           double cs = (cx == 0 && cy == 0) || (dx == 0 && dy == 0) ? 1 : (double)(cx * dx + cy * dy);
@@ -227,7 +230,7 @@ void line_link_build(LinePolys *out, const LineRef *ref, const LineTrace *tr,
   L.frontier = xgrow(NULL, &L.cap_front, 16, sizeof *L.frontier);
   L.next = xgrow(NULL, &L.cap_next, 16, sizeof *L.next);
   for (int k = 0; k < ref->nvisible; k++)
-    if (!L.used[ref->visible[k] - 1]) seed(&L, ref->visible[k]);
+    if (!L.used[ref->visible[k] - 1] && has_segments(&L, ref->visible[k])) seed(&L, ref->visible[k]);
   for (int i = 0; i < edges->nobj; i++) free(L.stamp[i]);
   free(L.stamp);
   free(L.used);

@@ -2,11 +2,11 @@
 ** Linking segments into polylines through the mesh edge graph (001
 ** §2.1.3, §2.1.5). From a segment end that touches its edge's vertex, a
 ** breadth-first search over the object's edges (following only important
-** edges not yet used, up to link_depth) looks for a visible, unused,
-** important edge whose screen direction differs from the current one by
-** less than link_angle; a depth where a candidate was refused for its
-** angle is the last one searched. Links never cross objects. Each edge
-** is used in at most one polyline.
+** edges not yet used, up to link_depth) looks for a visible (traced into
+** segments), unused, important edge whose screen direction differs from
+** the current one by less than link_angle; a depth where a candidate was
+** refused for its angle is the last one searched. Links never cross
+** objects. Each edge is used in at most one polyline.
 */
 #ifndef render_link_h
 #define render_link_h

@@ -1,27 +1,14 @@
 /*
 ** Segment identification: the walk along each visible edge's line in the
-** reference image, with search width and misses (001 §2.1.4).
+** reference image, with misses (001 §2.1.4).
 */
 #include "trace.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../base/mem.h"
-
-/* Is id at the walk's pixel (x, y) or up to sw pixels across the dominant
-** axis (x_major: the search runs along y)? */
-static int hit_at(const LineRef *ref, int x, int y, int x_major, int sw, uint32_t id) {
-  if (line_ref_id(ref, x, y) == id) return 1;
-  for (int k = 1; k <= sw; k++) {
-    if (x_major) {
-      if (line_ref_id(ref, x, y - k) == id || line_ref_id(ref, x, y + k) == id) return 1;
-    } else {
-      if (line_ref_id(ref, x - k, y) == id || line_ref_id(ref, x + k, y) == id) return 1;
-    }
-  }
-  return 0;
-}
 
 /* The point of step i on the span's exact line (not the pixel centre). */
 static void step_point(const LineSpan *s, int i, float *x, float *y) {
@@ -44,18 +31,13 @@ static int close_run(const LineSpan *s, int a, int b, int max_misses, LineSeg *o
   return 1;
 }
 
-int line_trace_span(const LineRef *ref, const LineSpan *s, uint32_t id, int search_width,
-                    int max_misses, LineSeg *out) {
+int line_trace_span(const LineSpan *s, const unsigned char *vis, int max_misses, LineSeg *out) {
   int n = s->nsteps, nout = 0;
   if (n <= 0) return 0;
-  if (search_width < 0) search_width = 0;
   if (max_misses < 0) max_misses = 0;
-  int x_major = abs(s->px1 - s->px0) >= abs(s->py1 - s->py0);
   int in_run = 0, start = 0, last = 0, misses = 0;
   for (int i = 0; i < n; i++) {
-    int x, y;
-    line_span_step(s, i, &x, &y);
-    if (hit_at(ref, x, y, x_major, search_width, id)) {
+    if (vis[i]) {
       if (!in_run) { in_run = 1; start = i; }
       last = i;
       misses = 0;
@@ -68,6 +50,11 @@ int line_trace_span(const LineRef *ref, const LineSpan *s, uint32_t id, int sear
   return nout;
 }
 
+int line_trace_misses(int max_misses, double ref_per_px) {
+  double m = (max_misses > 0 ? max_misses : 0) * ref_per_px;
+  return m < 64 * 8 ? (int)floor(m + 0.5) : 64 * 8;   /* the property's cap at the largest ref_scale */
+}
+
 /* ---- all visible edges --------------------------------------------------- */
 
 #define TRACE_CHUNK 64   /* visible edges a task */
@@ -75,6 +62,7 @@ int line_trace_span(const LineRef *ref, const LineSpan *s, uint32_t id, int sear
 typedef struct TraceJob {
   const LineRef *ref;
   const LineEdges *edges;
+  double ref_per_px;   /* reference pixels to an output pixel */
   LineSeg **seg;       /* per task: its segments */
   int *nseg;           /* per task */
   int *count;          /* per id - 1: segments */
@@ -92,7 +80,8 @@ static void trace_task(void *ctx, int task, int worker) {
     const LineSpan *s = &ref->span[id - 1];
     const SceneLines *ls = j->edges->obj[j->edges->obj_of[id - 1]].lines;
     seg = xgrow(seg, &cap, n + s->nsteps / 2 + 1, sizeof *seg);
-    int got = line_trace_span(ref, s, (uint32_t)id, ls->search_width, ls->max_misses, seg + n);
+    int got = line_trace_span(s, line_ref_vis(ref, id), line_trace_misses(ls->max_misses, j->ref_per_px),
+                              seg + n);
     j->count[id - 1] = got;
     n += got;
   }
@@ -100,11 +89,12 @@ static void trace_task(void *ctx, int task, int worker) {
   j->nseg[task] = n;
 }
 
-void line_trace_build(LineTrace *tr, const LineRef *ref, const LineEdges *edges, int threads) {
+void line_trace_build(LineTrace *tr, const LineRef *ref, const LineEdges *edges, double ref_per_px,
+                      int threads) {
   memset(tr, 0, sizeof *tr);
   tr->nids = ref->nids;
   int ntasks = (ref->nvisible + TRACE_CHUNK - 1) / TRACE_CHUNK;
-  TraceJob job = {ref, edges, xcalloc((size_t)ntasks + 1, sizeof(LineSeg *)),
+  TraceJob job = {ref, edges, ref_per_px, xcalloc((size_t)ntasks + 1, sizeof(LineSeg *)),
                   xcalloc((size_t)ntasks + 1, sizeof(int)),
                   xcalloc((size_t)ref->nids + 1, sizeof(int))};
   line_parallel(ntasks, threads, trace_task, &job);
@@ -118,7 +108,11 @@ void line_trace_build(LineTrace *tr, const LineRef *ref, const LineEdges *edges,
   }
   tr->first = xmalloc(((size_t)ref->nids + 1) * sizeof *tr->first);
   at = 0;
-  for (int i = 0; i < ref->nids; i++) { tr->first[i] = at; at += job.count[i]; }
+  for (int i = 0; i < ref->nids; i++) {
+    tr->first[i] = at;
+    at += job.count[i];
+    tr->nvisible += job.count[i] > 0;
+  }
   tr->first[ref->nids] = at;
   free(job.seg);
   free(job.nseg);
