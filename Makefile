@@ -126,10 +126,17 @@ bench: deps all bench-parse bench-eval
 check-cp: all
 	sh tests/cp_check.sh $(BUILD)/sumi
 
+# An example's first lines may say `// needs: FILE` (skipped when FILE is
+# absent, e.g. a Debian package's model) or `// frames: A:B` (an animation:
+# one image a frame, NAME_####.png).
 gallery: all
 	@mkdir -p docs/gallery
 	@for f in examples/*.npr; do \
-	  echo "render $$f"; $(BUILD)/sumi render $$f -o docs/gallery/$$(basename $$f .npr).png || exit 1; \
+	  need=$$(head -3 $$f | sed -n 's|^// needs: *||p'); frames=$$(head -3 $$f | sed -n 's|^// frames: *||p'); \
+	  if [ -n "$$need" ] && [ ! -e "$$need" ]; then echo "skip $$f (no $$need)"; continue; fi; \
+	  echo "render $$f"; \
+	  if [ -n "$$frames" ]; then $(BUILD)/sumi render $$f --frames $$frames -o docs/gallery/$$(basename $$f .npr)_####.png --quiet || exit 1; \
+	  else $(BUILD)/sumi render $$f -o docs/gallery/$$(basename $$f .npr).png || exit 1; fi; \
 	done
 
 PREFIX ?= /usr/local

@@ -140,4 +140,6 @@ echo
 sh bench/origami.sh "$(dirname "$SUMI")"
 echo
 sh bench/subdiv.sh "$SUMI"
+echo
+sh bench/ukiyoe.sh "$SUMI"
 exit 0

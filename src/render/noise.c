@@ -104,23 +104,63 @@ static void set_mean(NoiseTile *t) {
   for (int c = 0; c < s; c++) t->mean[c] = (float)(sum[c] / (double)(n ? n : 1));
 }
 
+/* Add amp times octave k of n over a size x size grid of texel centres
+** into v, cell by cell: a cell's four gradients hold over its texels, and
+** each texel's place in its cell comes from its column and row alone. The
+** same values as gradient_noise at ((i + 0.5) / size) p. */
+static void add_octave(const NoiseFbm *n, int k, int size, float amp, float *v) {
+  int p = n->cells << k;
+  const float *grad = n->grad[k];
+  int *cell = xmalloc((size_t)size * sizeof *cell);
+  float *frac = xmalloc((size_t)size * sizeof *frac), *fd = xmalloc((size_t)size * sizeof *fd);
+  for (int i = 0; i < size; i++) {
+    float X = (i + 0.5f) / size * p, f = floorf(X);
+    cell[i] = (int)f % p;
+    frac[i] = X - f;
+    fd[i] = fade(frac[i]);
+  }
+  for (int j = 0; j < size; j++) {
+    int j0 = cell[j], j1 = j0 + 1 == p ? 0 : j0 + 1;
+    float y = frac[j], fv = fd[j];
+    float *out = v + (size_t)j * size;
+    for (int i = 0, e; i < size; i = e) {   /* a run of texels in one cell */
+      for (e = i + 1; e < size && cell[e] == cell[i]; e++) {}
+      int i0 = cell[i], i1 = i0 + 1 == p ? 0 : i0 + 1;
+      const float *g00 = grad + 2 * (j0 * p + i0), *g10 = grad + 2 * (j0 * p + i1);
+      const float *g01 = grad + 2 * (j1 * p + i0), *g11 = grad + 2 * (j1 * p + i1);
+      float ax = g00[0], ay = g00[1] * y, bx = g10[0], by = g10[1] * y;
+      float cx = g01[0], cy = g01[1] * (y - 1), ex = g11[0], ey = g11[1] * (y - 1);
+      for (int q = i; q < e; q++) {
+        float x = frac[q];
+        float d00 = ax * x + ay, d10 = bx * (x - 1) + by, d01 = cx * x + cy, d11 = ex * (x - 1) + ey;
+        float a = d00 + fd[q] * (d10 - d00), b = d01 + fd[q] * (d11 - d01);
+        out[q] += amp * ((a + fv * (b - a)) * 1.41421356f);
+      }
+    }
+  }
+  free(cell);
+  free(frac);
+  free(fd);
+}
+
 void noise_tile_bake(NoiseTile *t, const NoiseFbm *n, int size) {
   memset(t, 0, sizeof *t);
   t->channels = 1;
   t->levels = 1;
   t->w[0] = t->h[0] = size;
-  float *v = t->texel[0] = xmalloc((size_t)size * size * sizeof *v);
+  size_t count = (size_t)size * size;
+  float *v = t->texel[0] = xcalloc(count, sizeof *v);
+  float amp = 1, total = 0;
+  for (int k = 0; k < n->octaves; k++, amp *= n->gain) {
+    add_octave(n, k, size, amp, v);
+    total += amp;
+  }
   double sum = 0;
-  for (int j = 0; j < size; j++)
-    for (int i = 0; i < size; i++) {
-      float x = noise_fbm_eval(n, (i + 0.5f) / size, (j + 0.5f) / size);
-      v[(size_t)j * size + i] = x;
-      sum += x;
-    }
-  float mean = (float)(sum / ((double)size * size)), dev = 0;
-  for (size_t i = 0; i < (size_t)size * size; i++) dev = fmaxf(dev, fabsf(v[i] - mean));
+  for (size_t i = 0; i < count; i++) sum += v[i] /= total;
+  float mean = (float)(sum / (double)count), dev = 0;
+  for (size_t i = 0; i < count; i++) dev = fmaxf(dev, fabsf(v[i] - mean));
   float k = dev > 0 ? 0.5f / dev : 0;   /* the widest deviation reaches 0 or 1 */
-  for (size_t i = 0; i < (size_t)size * size; i++) v[i] = 0.5f + (v[i] - mean) * k;
+  for (size_t i = 0; i < count; i++) v[i] = 0.5f + (v[i] - mean) * k;
   set_mean(t);
   build_levels(t);
 }
@@ -182,5 +222,23 @@ void noise_tile_sample(const NoiseTile *t, int level, float u, float v, float *o
   for (int c = 0; c < s; c++) {
     float top = p00[c] + a * (p10[c] - p00[c]), bottom = p01[c] + a * (p11[c] - p01[c]);
     out[c] = top + b * (bottom - top);
+  }
+}
+
+void noise_tile_row(const NoiseTile *t, int level, float u0, float du, float v, int n, float *out) {
+  int w = t->w[level], h = t->h[level];
+  float sx = (float)w / t->w[0], sy = (float)h / t->h[0];
+  float y = wrapf(v * sy - 0.5f, h), x0 = wrapf(u0 * sx - 0.5f, w), dx = du * sx;
+  int j0 = (int)y, j1 = j0 + 1 == h ? 0 : j0 + 1;
+  float b = y - (float)j0;
+  const float *r0 = t->texel[level] + (size_t)j0 * w, *r1 = t->texel[level] + (size_t)j1 * w;
+  int pow2 = (w & (w - 1)) == 0, mask = w - 1;
+  for (int k = 0; k < n; k++) {
+    float x = x0 + (float)k * dx;   /* >= 0: its int part is its floor */
+    int i = (int)x;
+    float a = x - (float)i;
+    int i0 = pow2 ? i & mask : i % w, i1 = pow2 ? (i + 1) & mask : (i + 1) % w;
+    float top = r0[i0] + a * (r0[i1] - r0[i0]), bottom = r1[i0] + a * (r1[i1] - r1[i0]);
+    out[k] = top + b * (bottom - top);
   }
 }

@@ -64,4 +64,8 @@ int noise_tile_level(const NoiseTile *t, float texels_per_sample);
 ** (channels + has_alpha floats). Texel (i, j) is centred at (i + 0.5, j + 0.5). */
 void noise_tile_sample(const NoiseTile *t, int level, float u, float v, float *out);
 
+/* n bilinear reads of a one-channel tile along a row: out[k] is
+** noise_tile_sample at (u0 + k du, v), du >= 0, up to rounding. */
+void noise_tile_row(const NoiseTile *t, int level, float u0, float du, float v, int n, float *out);
+
 #endif

@@ -165,21 +165,49 @@ static void lay_noise(const ScreenTex *x, const float *n, float rgb[3]) {
   }
 }
 
-void screentex_sample(const RenderObject *o, int sx, int sy, float rgb[3]) {
-  const ScreenTex *x = o->style->tex;
-  float texel[4];
-  if (x->has_pattern) {
-    const ScreenTexMap *m = &o->tex->pattern;
-    noise_tile_sample(&x->pattern, m->level, m->u0 + m->k * (float)sx, m->v0 + m->k * (float)sy, texel);
-    lay_pattern(x, texel, rgb);
-  }
-  if (x->has_noise) {
-    const ScreenTexMap *m = &o->tex->noise;
-    noise_tile_sample(&x->noise, m->level, m->u0 + m->k * (float)sx, m->v0 + m->k * (float)sy, texel);
-    lay_noise(x, texel, rgb);
-  }
-}
+/* Samples the span works on at a time (its noise row lives on the stack). */
+#define SCREENTEX_BLOCK 128
 
 void screentex_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride) {
-  for (int k = k0; k < k1; k++) screentex_sample(o, r->sx0 + k, r->sy, rgb + (size_t)k * stride);
+  const ScreenTex *x = o->style->tex;
+  float texel[4], row[SCREENTEX_BLOCK];
+  if (x->has_pattern) {
+    const ScreenTexMap *m = &o->tex->pattern;
+    float v = m->v0 + m->k * (float)r->sy;
+    for (int k = k0; k < k1; k++) {
+      noise_tile_sample(&x->pattern, m->level, m->u0 + m->k * (float)(r->sx0 + k), v, texel);
+      lay_pattern(x, texel, rgb + (size_t)k * stride);
+    }
+  }
+  if (!x->has_noise) return;
+  const ScreenTexMap *m = &o->tex->noise;
+  if (x->noise.channels != 1 || x->noise.has_alpha) {   /* a colour image: one sample at a time */
+    for (int k = k0; k < k1; k++) {
+      noise_tile_sample(&x->noise, m->level, m->u0 + m->k * (float)(r->sx0 + k), m->v0 + m->k * (float)r->sy,
+                        texel);
+      lay_noise(x, texel, rgb + (size_t)k * stride);
+    }
+    return;
+  }
+  float g = x->noise_gain, mean = x->noise.mean[0], v = m->v0 + m->k * (float)r->sy;
+  float dn[3 * SCREENTEX_BLOCK];
+  for (int k = k0; k < k1; k += SCREENTEX_BLOCK) {
+    int n = k1 - k < SCREENTEX_BLOCK ? k1 - k : SCREENTEX_BLOCK;
+    noise_tile_row(&x->noise, m->level, m->u0 + m->k * (float)(r->sx0 + k), m->k, v, n, row);
+    for (int j = 0; j < n; j++)   /* grey grain: the same change on every channel */
+      dn[3 * j] = dn[3 * j + 1] = dn[3 * j + 2] = g * (row[j] - mean);
+    float *c = rgb + (size_t)k * stride;
+    if (stride == 3) {   /* the channels side by side: one flat loop the compiler runs in lanes */
+      for (int q = 0; q < 3 * n; q++) {
+        float d = sqrtf(c[q] > 0 ? c[q] : 0) + dn[q];
+        c[q] = d > 0 ? d * d : 0;
+      }
+      continue;
+    }
+    for (int j = 0; j < n; j++, c += stride)
+      for (int q = 0; q < 3; q++) {
+        float d = sqrtf(c[q] > 0 ? c[q] : 0) + dn[3 * j + q];
+        c[q] = d > 0 ? d * d : 0;
+      }
+  }
 }

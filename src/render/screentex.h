@@ -68,8 +68,4 @@ void screentex_free(RenderFrame *f);
 ** (linear). o->tex must be set. */
 void screentex_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride);
 
-/* The pattern and noise of one sample at sample-grid position (sx, sy)
-** over rgb (screentex_span for a single sample). */
-void screentex_sample(const RenderObject *o, int sx, int sy, float rgb[3]);
-
 #endif

@@ -116,7 +116,6 @@ void shade_bokashi_span(const ShadeRow *r, const RenderObject *o, int k0, int k1
 /* A bokashi object's constants, set once a frame (shade_bokashi_prepare). */
 typedef struct BokashiObject {
   float k[3];                  /* sphere: sum of the lights' d^ s / |d|^2 s_mod; f = n^.k */
-  float (*snrm)[3];            /* sphere: per vertex, normalise(p - c) */
   float g[2];                  /* linear: the gradation point on screen, output pixels */
   float dir[2];                /* linear: unit screen direction of the light's rays at c */
   float rate;                  /* linear: gradation per output pixel at c's depth */

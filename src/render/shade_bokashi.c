@@ -10,7 +10,8 @@
 ** with the lights added before the clamp (a sun: its unit direction and s_i
 ** alone). The sum is n . K with K one vector per object. Per vertex
 ** (Gouraud: f at each vertex into its colour, interpolated) or per pixel
-** (Phong: the vertices' unit normals interpolated and normalised, f there).
+** (Phong: f at each sample's surface point; on a sphere about c that is the
+** paper's interpolated vertex normals' direction).
 **
 ** Bokashi 1, `shade bokashi linear`: a straight gradation in screen space.
 ** The gradation point g = c + d^ (s / |d|^2 s_mod + o), d the ray from the
@@ -61,37 +62,38 @@ static void sphere_prepare(const RenderFrame *f, RenderObject *o, BokashiObject 
     float d[3], s = light_at_centre(f, i, c, d) * smod;
     for (int k = 0; k < 3; k++) b->k[k] += d[k] * s;
   }
-  int nv = o->mesh->nverts;
-  b->snrm = xmalloc((size_t)nv * sizeof *b->snrm + 1);
-  for (int v = 0; v < nv; v++) {
-    float n[3] = {o->wpos[v][0] - c[0], o->wpos[v][1] - c[1], o->wpos[v][2] - c[2]};
-    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), inv = l > 0 ? 1 / l : 0;
-    for (int k = 0; k < 3; k++) b->snrm[v][k] = n[k] * inv;   /* a vertex at c: no normal, f = 0 */
-  }
   if (o->style->src->shade.bokashi.per_pixel) return;
-  const RenderStyle *st = o->style;   /* Gouraud: the colour at each vertex */
+  const RenderStyle *st = o->style;   /* Gouraud: the colour at each vertex, n = normalise(p - c) */
+  int nv = o->mesh->nverts;
   o->vcolor = xmalloc((size_t)nv * sizeof *o->vcolor + 1);
   for (int v = 0; v < nv; v++) {
-    const float *n = b->snrm[v];
-    float t = clamp01(n[0] * b->k[0] + n[1] * b->k[1] + n[2] * b->k[2]);
+    float n[3] = {o->wpos[v][0] - c[0], o->wpos[v][1] - c[1], o->wpos[v][2] - c[2]};
+    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);   /* a vertex at c: f = 0 */
+    float t = clamp01((n[0] * b->k[0] + n[1] * b->k[1] + n[2] * b->k[2]) * (l > 0 ? 1 / l : 0));
     for (int k = 0; k < 3; k++) o->vcolor[v][k] = mixc(st->unlit_color[k], st->lit_color[k], t);
   }
 }
 
-/* Phong: f from the interpolated, normalised vertex normals. */
+/* Samples sphere_span works on at a time (its factors live on the stack). */
+#define BOKASHI_BLOCK 64
+
+/* Phong: f at each sample's own surface point, n = normalise(p - c): the
+** rebuilt point planes, several samples side by side. */
 static void sphere_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride) {
   const BokashiObject *b = o->bokashi;
-  const float *lit = o->style->lit_color, *unlit = o->style->unlit_color;
-  const float(*sn)[3] = (const float(*)[3])b->snrm;
-  for (int k = k0; k < k1; k++) {
-    const int *t = o->mesh->tri[r->face[k]];
-    float b1 = r->bary[k][0], b2 = r->bary[k][1], b0 = 1 - b1 - b2;
-    float n[3];
-    for (int c = 0; c < 3; c++) n[c] = b0 * sn[t[0]][c] + b1 * sn[t[1]][c] + b2 * sn[t[2]][c];
-    float nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    float f = clamp01((n[0] * b->k[0] + n[1] * b->k[1] + n[2] * b->k[2]) * (nn > 0 ? 1 / sqrtf(nn) : 0));
+  const float *lit = o->style->lit_color, *unlit = o->style->unlit_color, *c = o->centre.world;
+  float kx = b->k[0], ky = b->k[1], kz = b->k[2], f[BOKASHI_BLOCK];
+  for (int k = k0; k < k1; k += BOKASHI_BLOCK) {
+    int n = k1 - k < BOKASHI_BLOCK ? k1 - k : BOKASHI_BLOCK;
+    const float *px = r->px + k, *py = r->py + k, *pz = r->pz + k;
+    for (int j = 0; j < n; j++) {
+      float x = px[j] - c[0], y = py[j] - c[1], z = pz[j] - c[2], dd = x * x + y * y + z * z;
+      float t = (x * kx + y * ky + z * kz) * (dd > 0 ? 1 / sqrtf(dd) : 0);   /* at c: 0 */
+      f[j] = t > 0 ? (t < 1 ? t : 1) : 0;
+    }
     float *out = rgb + (size_t)k * stride;
-    for (int c = 0; c < 3; c++) out[c] = mixc(unlit[c], lit[c], f);
+    for (int j = 0; j < n; j++, out += stride)
+      for (int q = 0; q < 3; q++) out[q] = mixc(unlit[q], lit[q], f[j]);
   }
 }
 
@@ -171,7 +173,6 @@ void shade_bokashi_prepare(const RenderFrame *f, RenderObject *o) {
 
 void shade_bokashi_free(RenderObject *o) {
   if (!o->bokashi) return;
-  free(o->bokashi->snrm);
   free(o->bokashi);
   o->bokashi = NULL;
 }
