@@ -17,6 +17,7 @@
 #include "base/mem.h"
 #include "geom/origami.h"
 #include "geom/origami_layers.h"
+#include "io/crease.h"
 #include "io/fold.h"
 #include "geom/refine.h"
 #include "lang/ast.h"
@@ -276,14 +277,16 @@ static int cmd_fold(const Options *o) {
   char err[512] = "";
   int status = 1;
   memset(&src, 0, sizeof src);
-  if (fold_read(o->input, &src, &arena, err, sizeof err) != 0) {
+  int bad = crease_is_oripa(o->input) ? crease_read(o->input, &src, &arena, err, sizeof err)
+                                      : fold_read(o->input, &src, &arena, err, sizeof err);
+  if (bad) {
     fprintf(stderr, "sumi: %s\n", err);
     arena_free(&arena);
     return 1;
   }
   const char *why;
   src.loc = src_none();
-  src.loc.file = diag_load_file(o->input, -1, src_none(), &why);
+  src.loc.file = diag_load_file(o->input, -1, src_none(), &why);   /* a .cp/.opx read registered it too */
   src.loc.line = src.loc.col = src.loc.end_line = 1, src.loc.end_col = 2;
   src.overlap_auto = 1;
   OrigamiModel *m = origami_build_folded(&src);

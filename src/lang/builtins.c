@@ -23,6 +23,7 @@
 #include "../base/utf8.h"
 
 #include "../geom/subdiv.h"
+#include "../io/crease.h"
 #include "../io/fold.h"
 #include "../io/mesh_import.h"
 
@@ -850,7 +851,9 @@ static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
   char full[4096], err[512] = "";
   resolve_path(call, a[0].u.s->s, full, sizeof full);
   SceneOrigami *o = arena_alloc(&ev->scene->arena, sizeof *o);
-  if (fold_read(full, o, &ev->scene->arena, err, sizeof err) != 0) {
+  int bad = crease_is_oripa(full) ? crease_read(full, o, &ev->scene->arena, err, sizeof err)
+                                  : fold_read(full, o, &ev->scene->arena, err, sizeof err);
+  if (bad) {
     ev_error(ev, arg_loc(call, 0), "%s", err);   /* err names the file */
     return val_err();
   }

@@ -9,6 +9,7 @@
 
 #include "../../src/geom/origami.h"
 #include "../../src/geom/origami_layers.h"
+#include "../../src/io/crease.h"
 #include "../../src/lang/diag.h"
 #include "unit.h"
 
@@ -352,6 +353,38 @@ TEST(unsatisfiable_twist_is_refused) {
   CHECK(build_state(&p, 0) == NULL);
 }
 
+/* ORIPA's two formats (src/io/crease.c) give the same crease pattern: the
+** square twist above, drawn on ORIPA's 400-unit paper. */
+static long count_file(const char *path, int *nfaces) {
+  Arena arena;
+  arena_init(&arena);
+  Pattern p;
+  pattern_init(&p);
+  long n = -1;
+  *nfaces = 0;
+  if (crease_read(path, &p.o, &arena, (char[256]){0}, 256) == 0) {
+    p.o.overlap_auto = 1;
+    Solved x;
+    if (solve(&p, &x) && !layer_conflict(x.s)) {
+      n = 1;
+      for (int c = 0; c < layer_ncomponents(x.s); c++) n *= layer_count(x.s, c, 100);
+      *nfaces = x.m->nfaces;
+    }
+    solved_free(&x);
+  }
+  arena_free(&arena);
+  return n;
+}
+
+TEST(oripa_files) {
+  int f1, f2;
+  CHECK_EQ_INT(count_file("tests/data/cp/square_twist.cp", &f1), 1);
+  CHECK_EQ_INT(count_file("tests/data/cp/square_twist.opx", &f2), 1);
+  CHECK_EQ_INT(f1, 9);
+  CHECK_EQ_INT(f2, 9);
+  CHECK_EQ_INT(count_file("tests/data/cp/square_twist_wrong.opx", &f1), -1);
+}
+
 int main(void) {
   diag_init(DIAG_SILENT);
   RUN(strip_in_three_has_one_state);
@@ -361,5 +394,6 @@ int main(void) {
   RUN(square_twist);
   RUN(every_state_passes_an_independent_check);
   RUN(unsatisfiable_twist_is_refused);
+  RUN(oripa_files);
   return unit_done();
 }
