@@ -40,7 +40,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    libassimp-dev libxml2-dev clang libclang-rt-14-dev assimp-testmodels
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
-        bench-eval gallery clean help example install check-cp
+        bench-eval bench-solve gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -87,6 +87,7 @@ deps:
 
 PEER_PACKAGES ?=
 bench bench-parse bench-eval: PEER_PACKAGES := povray openscad hyperfine python3 time
+bench-solve: PEER_PACKAGES := nodejs python3
 
 # The README's first command: install, build, and render the default example.
 example: deps all
@@ -117,6 +118,10 @@ bench-parse: deps all
 
 bench-eval: deps all
 	sh bench/eval.sh $(BUILD)/sumi
+
+# The layer-order solver against Flat-Folder under node (../shared; minutes).
+bench-solve: deps all
+	sh bench/solve.sh $(BUILD)/sumi
 
 bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
@@ -157,6 +162,7 @@ help:
 	@echo "make update-snapshots / update-golden   rewrite expectations"
 	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer over lexer and parser"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
+	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/"
 
