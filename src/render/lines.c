@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "../base/mem.h"
+#include "../geom/origami.h"
 #include "../lang/diag.h"
 #include "edgeref.h"
 #include "link.h"
@@ -162,10 +163,41 @@ int line_frame_draws(const RenderFrame *f) {
   return 0;
 }
 
+/* The folded sheets of the scene's origami blocks as occluders (no lines
+** of their own: the origami draws its creases), appended to *objs after
+** its n entries; their meshes go into *sheets (*nsheets of them; the
+** caller destroys them and frees the list). A flat sheet hides what is
+** behind it from either side. Returns the new count. */
+static int add_sheets(const Scene *s, LineObject **objs, int n, Mesh ***sheets, int *nsheets) {
+  if (!s || s->norigami == 0) return n;
+  *objs = xrealloc(*objs, ((size_t)n + (size_t)s->norigami + 1) * sizeof **objs);
+  *sheets = xcalloc((size_t)s->norigami, sizeof **sheets);
+  for (int i = 0; i < s->norigami; i++) {
+    OrigamiModel *om = origami_build_folded(&s->origami[i]);   /* rendering built it already */
+    if (!om) continue;
+    Mesh *m = mesh_create(om->nverts, om->ntris);
+    for (int v = 0; v < om->nverts; v++) m->pos[v] = v3(om->folded[v].x, om->folded[v].y, 0);
+    memcpy(m->tri, om->tri, (size_t)om->ntris * sizeof *m->tri);
+    memcpy(m->tri_face, om->tri_face, (size_t)om->ntris * sizeof *m->tri_face);
+    mesh_build_edges(m);
+    origami_free(om);
+    LineObject *o = &(*objs)[n++];
+    memset(o, 0, sizeof *o);
+    o->mesh = m;
+    o->object_to_world = s->origami[i].transform;
+    o->id = s->nobjects + i;
+    (*sheets)[(*nsheets)++] = m;
+  }
+  return n;
+}
+
 int line_render_frame(const RenderFrame *f, int threads, Image *target, StrokeList **strokes_out,
                       LineStats *stats) {
   LineObject *objs;
   int n = line_frame_objects(f, &objs);
+  Mesh **sheets = NULL;
+  int nsheets = 0;
+  if (line_frame_draws(f)) n = add_sheets(f->scene, &objs, n, &sheets, &nsheets);
   SceneLines *ls = xcalloc((size_t)n + 1, sizeof *ls);    /* with resolved texture paths */
   char (*paths)[1024] = xcalloc((size_t)n + 1, sizeof *paths);
   for (int i = 0; i < n; i++)
@@ -182,6 +214,8 @@ int line_render_frame(const RenderFrame *f, int threads, Image *target, StrokeLi
       if (objs[i].lines && objs[i].lines->present) { at = objs[i].lines->loc; break; }
     diag_error(at, "%s", err);
   }
+  for (int i = 0; i < nsheets; i++) mesh_destroy(sheets[i]);
+  free(sheets);
   free(objs);
   free(ls);
   free(paths);

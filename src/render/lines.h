@@ -5,7 +5,8 @@
 **   important edges (edges.c) -> reference image (edgeref.c)
 **     -> segments (trace.c) -> polylines (link.c) -> strokes (stroke.c)
 **
-** Every object occludes; objects whose style has lines { } draw strokes.
+** Every object occludes, and so does every origami sheet (its folded
+** faces, from either side); objects whose style has lines { } draw strokes.
 ** One reference image serves all objects, at the largest ref_scale any of
 ** them asks for; the other lines parameters are per object.
 */

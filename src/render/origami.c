@@ -86,7 +86,6 @@ typedef struct Ctx {
   ScreenVert *sv;            /* per vertex */
   int from_below;
   int32_t *fid, *tid;        /* face and triangle at each pixel, -1 empty */
-  const float *depth;        /* external depth to test against, or NULL */
 } Ctx;
 
 static void ctx_project(Ctx *c, const Mat4 *object_to_clip) {
@@ -113,17 +112,6 @@ static int64_t fixed(double v) {
 static int64_t floor_div(int64_t a, int64_t b) {             /* b > 0 */
   int64_t q = a / b;
   return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
-/* Window depth of triangle t at pixel centre (px, py), affine in the screen. */
-static double tri_depth(const Ctx *c, int t, double px, double py) {
-  const int *v = c->m->tri[t];
-  ScreenVert a = c->sv[v[0]], b = c->sv[v[1]], d = c->sv[v[2]];
-  double den = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
-  if (den == 0) return a.depth;
-  double l1 = ((px - a.x) * (d.y - a.y) - (py - a.y) * (d.x - a.x)) / den;
-  double l2 = ((b.x - a.x) * (py - a.y) - (b.y - a.y) * (px - a.x)) / den;
-  return a.depth + l1 * (b.depth - a.depth) + l2 * (d.depth - a.depth);
 }
 
 /* Scan-convert triangle t of face f: pixel centres inside (top-left rule
@@ -166,10 +154,6 @@ static void raster_tri(Ctx *c, int t, int f) {
     for (int64_t px = lo; px <= hi; px++) {
       int32_t cur = fr[px];
       if (cur >= 0 && (cur == f || !over(c, f, cur))) continue;   /* §5.1: only over a lower face */
-      if (c->depth) {
-        size_t p = (size_t)row * c->width + (size_t)px;
-        if (!(tri_depth(c, t, px + 0.5, row + 0.5) < c->depth[p])) continue;
-      }
       fr[px] = f;
       tr[px] = t;
     }
@@ -395,6 +379,78 @@ static void occlusion(const Ctx *c, double radius, float *occ) {
   free(hw);
 }
 
+/* Per triangle: screen barycentrics l1, l2 = C (p - a), and the corners'
+** 1/w and depths, for perspective-correct attributes. */
+typedef struct TriSetup { float ax, ay, c[4], invw[3], depth[3]; } TriSetup;
+
+static TriSetup *tri_setup(const Ctx *c) {
+  const OrigamiModel *m = c->m;
+  TriSetup *ts = xmalloc((size_t)(m->ntris ? m->ntris : 1) * sizeof *ts);
+  for (int t = 0; t < m->ntris; t++) {
+    ScreenVert a = c->sv[m->tri[t][0]], b = c->sv[m->tri[t][1]], d = c->sv[m->tri[t][2]];
+    double den = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x), k = den ? 1 / den : 0;
+    TriSetup *s = &ts[t];
+    s->ax = (float)a.x, s->ay = (float)a.y;
+    s->c[0] = (float)((d.y - a.y) * k), s->c[1] = (float)(-(d.x - a.x) * k);   /* l1 */
+    s->c[2] = (float)(-(b.y - a.y) * k), s->c[3] = (float)((b.x - a.x) * k);   /* l2 */
+    s->invw[0] = (float)a.invw, s->invw[1] = (float)b.invw, s->invw[2] = (float)d.invw;
+    s->depth[0] = (float)a.depth, s->depth[1] = (float)b.depth, s->depth[2] = (float)d.depth;
+  }
+  return ts;
+}
+
+/* Perspective-correct barycentrics of pixel centre (px, py) in triangle s,
+** and the screen-linear depth. */
+static void tri_bary(const TriSetup *s, float px, float py, float b[3], float *depth) {
+  float dx = px - s->ax, dy = py - s->ay;
+  float l1 = s->c[0] * dx + s->c[1] * dy, l2 = s->c[2] * dx + s->c[3] * dy, l0 = 1 - l1 - l2;
+  *depth = l0 * s->depth[0] + l1 * s->depth[1] + l2 * s->depth[2];
+  float w0 = l0 * s->invw[0], w1 = l1 * s->invw[1], w2 = l2 * s->invw[2], sum = w0 + w1 + w2;
+  if (sum == 0) sum = 1;
+  b[0] = w0 / sum, b[1] = w1 / sum, b[2] = w2 / sum;
+}
+
+/* Screen-linear depth of triangle s at pixel centre (px, py). */
+static float tri_depth_at(const TriSetup *s, float px, float py) {
+  float dx = px - s->ax, dy = py - s->ay;
+  float l1 = s->c[0] * dx + s->c[1] * dy, l2 = s->c[2] * dx + s->c[3] * dy;
+  return (1 - l1 - l2) * s->depth[0] + l1 * s->depth[1] + l2 * s->depth[2];
+}
+
+/* Where a mesh drawn before (depth, or NULL for none) hides the paper:
+** shown[p] = 1 where the face-ID buffer has a face whose depth at the
+** pixel centre is nearer than the mesh's. */
+static unsigned char *shown_pixels(const Ctx *c, const TriSetup *ts, const float *depth) {
+  int w = c->width, h = c->height;
+  unsigned char *shown = xmalloc((size_t)w * (size_t)h + 1);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      size_t p = (size_t)y * w + x;
+      shown[p] = c->fid[p] >= 0;
+      if (shown[p] && depth) shown[p] = tri_depth_at(&ts[c->tid[p]], x + 0.5f, y + 0.5f) < depth[p];
+    }
+  return shown;
+}
+
+/* Is the line at pixel p in front of the mesh there? On the paper where
+** the paper shows; just off it (the outer side of the outline) where the
+** nearest paper pixel beside it is nearer than the mesh at p. */
+static int line_shown(const Ctx *c, const TriSetup *ts, const unsigned char *shown, const float *depth,
+                      size_t p) {
+  if (c->fid[p] >= 0) return shown[p];
+  if (!depth) return 1;
+  int w = c->width, h = c->height, x = (int)(p % (size_t)w), y = (int)(p / (size_t)w);
+  float near = INFINITY;
+  for (int dy = -1; dy <= 1; dy++)
+    for (int dx = -1; dx <= 1; dx++) {
+      int u = x + dx, v = y + dy;
+      if (u < 0 || v < 0 || u >= w || v >= h) continue;
+      size_t q = (size_t)v * w + u;
+      if (c->fid[q] >= 0) near = fminf(near, tri_depth_at(&ts[c->tid[q]], u + 0.5f, v + 0.5f));
+    }
+  return near < depth[p];
+}
+
 /* ---- line: Sobel on the face IDs ------------------------------------------ */
 
 /* A face id spread over 20 bits, so that Sobel's weighted sums of
@@ -425,8 +481,12 @@ static void dilate(unsigned char *mask, int w, int h, int r) {
 }
 
 /* Draw the Sobel edges of the face-ID buffer (both sides of each change,
-** about 2 pixels; wider lines grow them). */
-static void sobel_lines(const Ctx *c, const Shading *s, float *rgba) {
+** about 2 pixels; wider lines grow them). The buffer holds every face,
+** hidden or not, so a mesh in front of the paper neither adds edges along
+** its outline nor lets the creases behind it show: a line pixel is drawn
+** only where line_shown says the line is in front. */
+static void sobel_lines(const Ctx *c, const Shading *s, const TriSetup *ts, const unsigned char *shown,
+                        const float *depth, float *rgba) {
   int w = c->width, h = c->height;
   int32_t *code = xmalloc((size_t)(w + 2) * (size_t)(h + 2) * sizeof *code);   /* clamped border */
   unsigned char *mask = xmalloc((size_t)w * (size_t)h);
@@ -451,7 +511,7 @@ static void sobel_lines(const Ctx *c, const Shading *s, float *rgba) {
   if (grow > 0) dilate(mask, w, h, grow);
   float a = s->line_opacity;
   for (size_t p = 0; p < (size_t)w * (size_t)h; p++) {
-    if (!mask[p]) continue;
+    if (!mask[p] || !line_shown(c, ts, shown, depth, p)) continue;
     float *o = rgba + p * 4;
     for (int ch = 0; ch < 3; ch++) o[ch] = o[ch] * (1 - a) + s->line_color[ch] * a;
     o[3] = o[3] * (1 - a) + a;
@@ -478,37 +538,6 @@ static void sample_texture(const Image *img, double u, double v, float out[3]) {
       }
     out[ch] = (float)acc;
   }
-}
-
-/* Per triangle: screen barycentrics l1, l2 = C (p - a), and the corners'
-** 1/w and depths, for perspective-correct attributes. */
-typedef struct TriSetup { float ax, ay, c[4], invw[3], depth[3]; } TriSetup;
-
-static TriSetup *tri_setup(const Ctx *c) {
-  const OrigamiModel *m = c->m;
-  TriSetup *ts = xmalloc((size_t)(m->ntris ? m->ntris : 1) * sizeof *ts);
-  for (int t = 0; t < m->ntris; t++) {
-    ScreenVert a = c->sv[m->tri[t][0]], b = c->sv[m->tri[t][1]], d = c->sv[m->tri[t][2]];
-    double den = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x), k = den ? 1 / den : 0;
-    TriSetup *s = &ts[t];
-    s->ax = (float)a.x, s->ay = (float)a.y;
-    s->c[0] = (float)((d.y - a.y) * k), s->c[1] = (float)(-(d.x - a.x) * k);   /* l1 */
-    s->c[2] = (float)(-(b.y - a.y) * k), s->c[3] = (float)((b.x - a.x) * k);   /* l2 */
-    s->invw[0] = (float)a.invw, s->invw[1] = (float)b.invw, s->invw[2] = (float)d.invw;
-    s->depth[0] = (float)a.depth, s->depth[1] = (float)b.depth, s->depth[2] = (float)d.depth;
-  }
-  return ts;
-}
-
-/* Perspective-correct barycentrics of pixel centre (px, py) in triangle s,
-** and the screen-linear depth. */
-static void tri_bary(const TriSetup *s, float px, float py, float b[3], float *depth) {
-  float dx = px - s->ax, dy = py - s->ay;
-  float l1 = s->c[0] * dx + s->c[1] * dy, l2 = s->c[2] * dx + s->c[3] * dy, l0 = 1 - l1 - l2;
-  *depth = l0 * s->depth[0] + l1 * s->depth[1] + l2 * s->depth[2];
-  float w0 = l0 * s->invw[0], w1 = l1 * s->invw[1], w2 = l2 * s->invw[2], sum = w0 + w1 + w2;
-  if (sum == 0) sum = 1;
-  b[0] = w0 / sum, b[1] = w1 / sum, b[2] = w2 / sum;
 }
 
 /* What colouring a pixel needs, set up once a frame. */
@@ -571,7 +600,7 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
                     const Image *texture, OrigamiTarget *t) {
   int w = t->width, h = t->height;
   size_t n = (size_t)w * (size_t)h;
-  Ctx c = {.m = m, .width = w, .height = h, .depth = t->depth};
+  Ctx c = {.m = m, .width = w, .height = h};
   c.fid = xmalloc(n * sizeof *c.fid);
   c.tid = xmalloc(n * sizeof *c.tid);
   ctx_project(&c, object_to_clip);
@@ -587,14 +616,16 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
   }
   pt.occ = occ;
   paint_setup(&pt, &c);
+  unsigned char *shown = shown_pixels(&c, pt.ts, t->depth);  /* before the paper writes its depth */
   long covered = 0;
   for (int y = 0; y < h; y++)
     for (int x = 0; x < w; x++)
-      if (c.fid[(size_t)y * w + x] >= 0) {
+      if (shown[(size_t)y * w + x]) {
         paint_pixel(&pt, &c, x, y, t);
         covered++;
       }
-  if (s.lines) sobel_lines(&c, &s, t->rgba);                 /* §5.2 */
+  if (s.lines) sobel_lines(&c, &s, pt.ts, shown, t->depth, t->rgba);   /* §5.2 */
+  free(shown);
   free(pt.ts);
   free(occ);
   free(pt.bt);

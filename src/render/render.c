@@ -429,6 +429,7 @@ static void prepare_view(RenderFrame *f) {
 
 int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   memset(f, 0, sizeof *f);
+  f->scene = s;
   double t0 = stats_now();
   int w = o->width, h = o->height;
   if (w <= 0 || h <= 0) render_resolve_size(s, w, h, &w, &h);

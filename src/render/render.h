@@ -148,6 +148,8 @@ typedef struct RenderFrame {
   SceneStyle default_style;
   long long ntriangles;
   struct ScreenTexFrame *screentex;   /* the noise and pattern layers (screentex.h) */
+  const Scene *scene;          /* what it was prepared from (the line stage reads its
+                                  origami sheets, which hide lines too) */
 } RenderFrame;
 
 /* Output size from the scene and -W/-H (0 = not given): both given wins;
