@@ -10,6 +10,8 @@
 #include "../../src/geom/origami.h"
 #include "../../src/geom/origami_layers.h"
 #include "../../src/io/crease.h"
+#include "../../src/io/fold.h"
+#include "../../src/render/origami.h"
 #include "../../src/lang/diag.h"
 #include "unit.h"
 
@@ -385,6 +387,117 @@ TEST(oripa_files) {
   CHECK_EQ_INT(count_file("tests/data/cp/square_twist_wrong.opx", &f1), -1);
 }
 
+/* ---- against Flat-Folder's own state ---------------------------------------- */
+
+static OrigamiModel *read_model(const char *path, int solve_it, Arena *arena) {
+  SceneOrigami o;
+  char err[256];
+  if (fold_read(path, &o, arena, err, sizeof err)) return NULL;
+  o.loc = o.overlap_loc = o.state_loc = src_none();
+  o.overlap_auto = solve_it;
+  return origami_build(&o, 0);
+}
+
+/* Folded positions moved into the unit box (the states of two solvers differ
+** by where they put the fixed face) and then by symmetry k of the square
+** (k & 3 quarter turns, k & 4 a mirror). */
+static void normalise(OrigamiModel *m, int k) {
+  double ext = fmax(m->fold_max.x - m->fold_min.x, m->fold_max.y - m->fold_min.y);
+  for (int v = 0; v < m->nverts; v++) {
+    Vec2 p = {(m->folded[v].x - m->fold_min.x) / ext - 0.5, (m->folded[v].y - m->fold_min.y) / ext - 0.5};
+    if (k & 4) p.x = -p.x;
+    for (int r = 0; r < (k & 3); r++) p = (Vec2){-p.y, p.x};
+    m->folded[v] = p;
+  }
+  if (k & 4)                                              /* a mirror turns the stack over */
+    for (int f = 0; f < m->nfaces; f++) m->flipped[f] = !m->flipped[f];
+}
+
+static Vec2 folded_centroid(const OrigamiModel *m, int f) {
+  Vec2 c = {0, 0};
+  int n = m->face_start[f + 1] - m->face_start[f];
+  for (int k = m->face_start[f]; k < m->face_start[f + 1]; k++)
+    c.x += m->folded[m->face_index[k]].x / n, c.y += m->folded[m->face_index[k]].y / n;
+  return c;
+}
+
+/* Each face of b as the face of a lying at the same place the same side up,
+** or -1; returns the number unmatched. */
+static int match_faces(const OrigamiModel *a, const OrigamiModel *b, int *map) {
+  int unmatched = 0;
+  for (int g = 0; g < b->nfaces; g++) {
+    Vec2 cb = folded_centroid(b, g);
+    map[g] = -1;
+    for (int f = 0; f < a->nfaces; f++) {
+      Vec2 ca = folded_centroid(a, f);
+      if (hypot(ca.x - cb.x, ca.y - cb.y) < 1e-6 && a->flipped[f] == b->flipped[g]) map[g] = f;
+    }
+    unmatched += map[g] < 0;
+  }
+  return unmatched;
+}
+
+/* The square twist's crease pattern, solved by sumi, draws the same
+** face-ID buffer as the state Flat-Folder's solver exported for it
+** (tests/data/cp/square_twist_ff_state.fold, from the peer's driver; its
+** face ids and placement are its own, so faces are matched by where they
+** lie once both are moved into the unit box), seen from its other side. */
+TEST(first_state_draws_as_flat_folders) {
+  Arena arena;
+  arena_init(&arena);
+  OrigamiModel *a = read_model("tests/data/cp/square_twist.fold", 1, &arena);
+  OrigamiModel *b = read_model("tests/data/cp/square_twist_ff_state.fold", 0, &arena);
+  CHECK(a && b && a->nfaces == b->nfaces);
+  if (a && b && a->nfaces == b->nfaces) {
+    int *map = malloc((size_t)b->nfaces * sizeof *map), k = 0, mirrored = 0;
+    normalise(a, 0);
+    for (; k < 8; k++) {                                    /* the symmetry that lays b on a */
+      OrigamiModel *t = read_model("tests/data/cp/square_twist_ff_state.fold", 0, &arena);
+      normalise(t, k);
+      int ok = match_faces(a, t, map) == 0;
+      origami_free(t);
+      if (ok) break;
+    }
+    CHECK(k < 8);
+    normalise(b, k);
+    mirrored = (k & 4) != 0;
+    /* Flat-Folder's default side (+) reads a FOLD crease pattern with M and
+    ** V swapped, the paper seen from its back: its state is sumi's turned
+    ** over, every order reversed (and a mirror turns it back) */
+    int am = 0, av = 0, bm = 0, bv = 0;
+    for (int e = 0; e < a->ncreases; e++) am += a->creases[e].assignment == 'M', av += a->creases[e].assignment == 'V';
+    for (int e = 0; e < b->ncreases; e++) bm += b->creases[e].assignment == 'M', bv += b->creases[e].assignment == 'V';
+    CHECK(am == bv && av == bm && am != av);
+    if (!mirrored) {                                        /* the stack turned over: every order reverses */
+      uint64_t *t = calloc((size_t)b->nfaces * (size_t)b->row_words, sizeof *t);
+      for (int i = 0; i < b->nfaces; i++)
+        for (int j = 0; j < b->nfaces; j++)
+          if (origami_is_above(b, j, i)) t[(size_t)i * (size_t)b->row_words + ((unsigned)j >> 6)] |= 1ull << (j & 63);
+      memcpy(b->above, t, (size_t)b->nfaces * (size_t)b->row_words * sizeof *t);
+      free(t);
+    }
+    Mat4 c = m4_identity();                                 /* the unit box fills the view */
+    c.m[0][0] = c.m[1][1] = 1.8, c.m[2][2] = -0.1;
+    int w = 96, h = 96, differ = 0, covered = 0;
+    int32_t *ia = malloc((size_t)(w * h) * sizeof *ia), *ib = malloc((size_t)(w * h) * sizeof *ib);
+    origami_render_ids(a, &c, w, h, NULL, ia);
+    origami_render_ids(b, &c, w, h, NULL, ib);
+    for (int k2 = 0; k2 < w * h; k2++) {
+      int mapped = ib[k2] < 0 || map[ib[k2]] < 0 ? -1 : map[ib[k2]];
+      differ += ia[k2] != mapped;
+      covered += ia[k2] >= 0;
+    }
+    CHECK(covered > w * h / 4);
+    CHECK_EQ_INT(differ, 0);
+    free(ia);
+    free(ib);
+    free(map);
+  }
+  origami_free(a);
+  origami_free(b);
+  arena_free(&arena);
+}
+
 int main(void) {
   diag_init(DIAG_SILENT);
   RUN(strip_in_three_has_one_state);
@@ -395,5 +508,6 @@ int main(void) {
   RUN(every_state_passes_an_independent_check);
   RUN(unsatisfiable_twist_is_refused);
   RUN(oripa_files);
+  RUN(first_state_draws_as_flat_folders);
   return unit_done();
 }
