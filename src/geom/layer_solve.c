@@ -924,12 +924,12 @@ long layer_check(const LayerSolver *s, int (*above)(void *user, int i, int j), v
   memset(conflict, 0, sizeof *conflict);
   for (int v = 0; v < s->nvars; v++) {
     int f1 = var_f1(s, v), f2 = var_f2(s, v), a = above(user, f1, f2), b = above(user, f2, f1);
-    w->val[v] = a ? 1 : -1;
-    if (a == b && broken++ == 0) *conflict = (LayerConflict){.kind = -3, .nfaces = 2, .faces = {f1, f2}};
+    w->val[v] = (signed char)(a && !b ? 1 : b && !a ? -1 : 0);   /* an open pair may go either way */
+    if (a && b && broken++ == 0) *conflict = (LayerConflict){.kind = -3, .nfaces = 2, .faces = {f1, f2}};
   }
   for (int e = 0; e < s->in.nedges; e++) {
     int lit = crease_lit(s, e);
-    if (lit >= 0 && lit_value(s, lit) != 1 && broken++ == 0) {
+    if (lit >= 0 && lit_value(s, lit) == 0 && broken++ == 0) {
       int v = lit >> 1;
       *conflict = (LayerConflict){.kind = -1, .nfaces = 2, .faces = {var_f1(s, v), var_f2(s, v)}};
     }

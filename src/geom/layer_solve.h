@@ -95,10 +95,12 @@ int layer_orders(LayerSolver *s, void (*out)(void *user, int upper, int lower), 
 /* Whether faces i and j overlap in the folded state. */
 int layer_overlap(const LayerSolver *s, int i, int j);
 
-/* Check a full relation against every constraint: above(user, i, j) says
-** whether i lies over j. Returns the number of variables and constraints it
-** breaks; the first broken one's faces go to *conflict (kind as above; -3:
-** an overlapping pair with no order or both). */
+/* Check a relation against every constraint: above(user, i, j) says
+** whether i lies over j (a pair with neither may go either way: a
+** constraint breaks only when no way of its open pairs satisfies it).
+** Returns the number of orders and constraints it breaks; the first
+** broken one's faces go to *conflict (kind as above; -3: a pair ordered
+** both ways). */
 long layer_check(const LayerSolver *s, int (*above)(void *user, int i, int j), void *user,
                  LayerConflict *conflict);
 

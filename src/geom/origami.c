@@ -1229,6 +1229,37 @@ static int build_relation(Build *b) {
 
 /* ---- checks ------------------------------------------------------------ */
 
+static int above_of(void *user, int i, int j) { return origami_is_above(user, i, j); }
+
+static const char *constraint_name(int kind) {
+  static const char *names[] = {"taco-taco", "taco-tortilla", "tortilla-tortilla", "transitivity"};
+  return kind >= 0 && kind < 4 ? names[kind] : kind == -1 ? "crease" : "antisymmetry";
+}
+
+/* A given relation (`above`, the matrix, faceOrders) against the layer
+** solver's constraints: where it cannot be a valid stacking, say which
+** constraint it breaks. A state the arrangement cannot be built for
+** (noisy imported positions) is left to the other checks. */
+static void check_with_solver(Build *b) {
+  OrigamiModel *m = b->m;
+  OrigamiLayers l;
+  origami_layers_init(m, &l);
+  char err[256];
+  LayerSolver *s = layer_new(&l.in, err, sizeof err);
+  LayerConflict c;
+  long n = s ? layer_check(s, above_of, m, &c) : 0;
+  if (n > 0) {
+    char faces[64] = "";
+    for (int i = 0, at = 0; i < c.nfaces && at < 48; i++)
+      at += snprintf(faces + at, sizeof faces - (size_t)at, "%s%d", i ? ", " : "", c.faces[i]);
+    SrcRange where = b->src->nabove ? at(b, b->src->above[0].loc) : at(b, b->src->overlap_loc);
+    diag_error(where, "the overlap relation is not a valid stacking: it breaks the %s constraint on "
+               "faces %s%s", constraint_name(c.kind), faces, n > 1 ? " (and more)" : "");
+  }
+  layer_free(s);
+  origami_layers_free(&l);
+}
+
 /* Three faces covering a common place must be ordered without a cycle
 ** there (cycles are fine between faces that never meet all at once: a
 ** twist's pleats). */
@@ -1536,6 +1567,7 @@ static OrigamiModel *build(const SceneOrigami *src, int check, int relation) {
   }
   if (ok && check) {
     check_orders(&b);
+    if (!src->overlap_auto && diag_error_count() == errors0) check_with_solver(&b);
     if (src->has_folded) check_vertices_folded(&b);
   }
   free(b.face_edges);
