@@ -17,7 +17,7 @@ CFLAGS  ?= -O2 -g
 CFLAGS  += -std=c11 -D_DEFAULT_SOURCE $(WARN) $(VECTOR) -MMD -MP -pthread -I/usr/include/libxml2
 CXXFLAGS ?= -O2 -g
 CXXFLAGS += -std=c++17 -Wall -Wextra -MMD -MP -fPIC
-LDLIBS  := -lxml2 -lpng16 -lcjson -losdCPU -lassimp -ldl -lm -pthread -lstdc++
+LDLIBS  := -lxml2 -lpotrace -lpng16 -lcjson -losdCPU -lassimp -ldl -lm -pthread -lstdc++
 
 ifeq ($(SANITIZE),1)
 BUILD   := build/san
@@ -37,7 +37,8 @@ UNIT_BIN := $(UNIT_SRC:tests/unit/%.c=$(BUILD)/unit/%)
 TOOLS    := $(BUILD)/imgcmp
 
 DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
-                   libassimp-dev libxml2-dev clang libclang-rt-14-dev assimp-testmodels
+                   libassimp-dev libxml2-dev libpotrace-dev librsvg2-bin clang libclang-rt-14-dev \
+                   assimp-testmodels
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp

@@ -6,6 +6,7 @@
 #   tests/eval/x.npr    -> x.out  "exit: N", then stdout and stderr of `sumi eval x.npr --scene`
 #   tests/render/x.npr  -> x.png  golden image, compared by imgcmp with a tolerance
 #                       -> x.svg  (when present) exact text of `sumi render x.npr -o x.svg`
+#                       with "// svg: TOLERANCE", x.svg drawn by rsvg-convert against x.png
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #
 # A line "// args: ..." among the first three gives extra options (and in
@@ -92,6 +93,27 @@ for f in "$ROOT"/tests/render/*.svg; do
   if [ -n "$UPDATE" ]; then cp "$OUT/$name.svg" "$f"; fi
   if cmp -s "$OUT/$name.svg" "$f"; then pass
   else fail "render/$name.svg"; diff -u "$f" "$OUT/$name.svg" | head -20; fi
+done
+
+# SVG against PNG: a render case with a line "// svg: --max-diff N --max-frac F"
+# is also written as x.svg, drawn by a real SVG renderer (rsvg-convert) and
+# compared with its golden x.png under that tolerance.
+for f in "$ROOT"/tests/render/*.npr; do
+  tol=$(sed -n 's|^// svg: *||p' "$f" | head -1)
+  [ -n "$tol" ] || continue
+  name=$(basename "$f" .npr)
+  if ! command -v rsvg-convert >/dev/null; then skipped=$((skipped + 1)); continue; fi
+  # shellcheck disable=SC2046
+  if ! (cd "$ROOT/tests/render" && "$SUMI" render "$name.npr" -o "$OUT/$name.svg" $(args_of "$f") >"$OUT/$name.svg.log" 2>&1) ||
+     ! rsvg-convert "$OUT/$name.svg" -o "$OUT/$name.svg.png" >>"$OUT/$name.svg.log" 2>&1; then
+    fail "render/$name.svg (render failed)"; sed 's/^/  /' "$OUT/$name.svg.log" | head -10; continue
+  fi
+  # shellcheck disable=SC2086
+  if "$ROOT/$BUILD/imgcmp" "$ROOT/tests/render/$name.png" "$OUT/$name.svg.png" "$OUT/$name.svg.diff.png" $tol >"$OUT/$name.svg.cmp" 2>&1; then pass
+  else
+    fail "render/$name.svg (against $name.png)"; sed 's/^/  /' "$OUT/$name.svg.cmp"
+    echo "  got: $OUT/$name.svg.png  diff: $OUT/$name.svg.diff.png"
+  fi
 done
 
 # Unit tests: each binary reports its own count.

@@ -672,3 +672,18 @@ int origami_draw_scene(const Scene *s, const Mat4 *world_to_clip, OrigamiTarget 
   }
   return ok;
 }
+
+int origami_screen_points(const OrigamiModel *m, const Mat4 *object_to_clip, int width, int height,
+                          double (*xy)[2]) {
+  Ctx c = {.m = m, .width = width, .height = height};
+  ctx_project(&c, object_to_clip);
+  for (int v = 0; v < m->nverts; v++) xy[v][0] = c.sv[v].x, xy[v][1] = c.sv[v].y;
+  free(c.sv);
+  return c.from_below;
+}
+
+OrigamiLines origami_lines_of(const SceneStyle *style) {
+  Shading s = shading_of(style, 1);
+  OrigamiLines l = {s.lines, {s.line_color[0], s.line_color[1], s.line_color[2]}, s.line_opacity, s.line_width};
+  return l;
+}

@@ -87,6 +87,19 @@ int origami_draw_scene(const Scene *s, const Mat4 *world_to_clip, OrigamiTarget 
 void origami_render_ids(const OrigamiModel *m, const Mat4 *object_to_clip, int width, int height,
                         const int *order, int32_t *ids);
 
+/* Screen positions (pixels, y down) of m's folded vertices seen through
+** object_to_clip on a width x height image, into xy (m->nverts pairs);
+** returns whether the camera sees the block from below (the relation
+** reversed). For the SVG writer's face polygons. */
+int origami_screen_points(const OrigamiModel *m, const Mat4 *object_to_clip, int width, int height,
+                          double (*xy)[2]);
+
+/* The Sobel lines origami_render draws for style (NULL: the defaults):
+** whether it draws them, their linear colour, opacity, and width in
+** output pixels. */
+typedef struct OrigamiLines { int draw; float color[3]; float opacity; double width; } OrigamiLines;
+OrigamiLines origami_lines_of(const SceneStyle *style);
+
 /* The folded state's box in world space (z = 0 plane of the block moved by
 ** transform), for framing a camera. */
 void origami_world_bounds(const OrigamiModel *m, const Mat4 *transform, Vec3 *bmin, Vec3 *bmax);

@@ -1158,7 +1158,7 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   }
   if (!gbuf_out) gbuf_destroy(gbuf);
   /* lines (src/render/lines.h): strokes composited over the shaded image */
-  if (!ok || !line_render_frame(&f, thread_count(o), *out, NULL, NULL)) {
+  if (!ok || !line_render_frame(&f, thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {
     if (gbuf_out && *gbuf_out) { gbuf_destroy(*gbuf_out); *gbuf_out = NULL; }
     image_destroy(*out);
     *out = NULL;

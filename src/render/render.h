@@ -71,6 +71,8 @@ typedef struct RenderOptions {
   int samples;         /* 0: the scene's `samples`; else overrides it */
   int out8;            /* the frame goes to an 8-bit file: render_scene may make it 8-bit */
   const RenderRows *rows;   /* with out8: the file's encoder, or NULL */
+  struct StrokeList **strokes;   /* when set, render_scene hands the line stage's strokes
+                                    back here (stroke_list_free) instead of drawing them */
 } RenderOptions;
 
 /* A light resolved for shading: floats, world space. */

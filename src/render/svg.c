@@ -1,6 +1,6 @@
 /*
-** The SVG writer: object regions traced from an object-id raster, then the
-** strokes (see svg.h).
+** The SVG writer (see svg.h): the document, the strokes, and the frame the
+** regions (svg_trace.h) and the origami (svg_origami.h) are drawn from.
 */
 #include "svg.h"
 
@@ -11,90 +11,14 @@
 #include <unistd.h>
 
 #include "../base/mem.h"
-#include "edgeref.h"
 #include "stats.h"
+#include "stroke.h"
+#include "svg_origami.h"
+#include "svg_trace.h"
 
 static void hex_color(char out[8], Color c) {
   snprintf(out, 8, "#%02x%02x%02x", image_linear_to_srgb8(c.r), image_linear_to_srgb8(c.g),
            image_linear_to_srgb8(c.b));
-}
-
-/* ---- regions -------------------------------------------------------------- */
-
-enum { DIR_E = 1, DIR_S = 2, DIR_W = 4, DIR_N = 8 };
-
-/* One path of the pixel outline of object obj in ids (w x h) within its
-** box [x0, x1] x [y0, y1]: every side between a pixel of obj and one that
-** is not becomes a directed edge (clockwise on screen), and the edges are
-** chained into closed loops; with the even-odd rule any chaining fills the
-** same area. */
-static void write_region(FILE *f, const int32_t *ids, int w, int h, int obj, int x0, int y0, int x1,
-                         int y1, Color fill) {
-  int gw = x1 - x0 + 2, gh = y1 - y0 + 2;   /* corners of the box */
-  unsigned char *out = xcalloc((size_t)gw * gh, 1);
-#define IN(x, y) ((x) >= 0 && (y) >= 0 && (x) < w && (y) < h && ids[(size_t)(y) * w + (x)] == obj)
-#define AT(x, y) out[(size_t)((y) - y0) * gw + ((x) - x0)]
-  for (int y = y0; y <= y1; y++)
-    for (int x = x0; x <= x1; x++) {
-      if (!IN(x, y)) continue;
-      if (!IN(x, y - 1)) AT(x, y) |= DIR_E;
-      if (!IN(x + 1, y)) AT(x + 1, y) |= DIR_S;
-      if (!IN(x, y + 1)) AT(x + 1, y + 1) |= DIR_W;
-      if (!IN(x - 1, y)) AT(x, y + 1) |= DIR_N;
-    }
-  char col[8];
-  hex_color(col, fill);
-  fprintf(f, "<path fill=\"%s\" fill-rule=\"evenodd\" d=\"", col);
-  static const int dx[9] = {0, 1, 0, 0, -1, 0, 0, 0, 0}, dy[9] = {0, 0, 1, 0, 0, 0, 0, 0, -1};
-  for (int cy = y0; cy <= y1 + 1; cy++)
-    for (int cx = x0; cx <= x1 + 1; cx++) {
-      if (!AT(cx, cy)) continue;
-      int x = cx, y = cy, prev = 0;
-      fprintf(f, "M%d %d", x, y);
-      do {
-        unsigned char *b = &AT(x, y);
-        int d = *b & prev ? prev : *b & -*b;   /* keep going straight where possible */
-        *b &= (unsigned char)~d;
-        if (d != prev && prev) fprintf(f, prev & (DIR_E | DIR_W) ? "H%d" : "V%d", prev & (DIR_E | DIR_W) ? x : y);
-        x += dx[d];
-        y += dy[d];
-        prev = d;
-      } while (x != cx || y != cy);
-      fprintf(f, "Z");
-    }
-  fprintf(f, "\"/>\n");
-#undef IN
-#undef AT
-  free(out);
-}
-
-static void write_regions(FILE *f, const LineObject *objs, int nobj, const Camera *cam, int threads) {
-  if (nobj == 0) return;
-  LineObject *occ = xmalloc((size_t)nobj * sizeof *occ);   /* projection only, no edges */
-  for (int i = 0; i < nobj; i++) { occ[i] = objs[i]; occ[i].lines = NULL; }
-  LineEdges ed;
-  line_edges_build(&ed, occ, nobj, cam);
-  int w = cam->width, h = cam->height;
-  int32_t *ids = line_object_ids(&ed, occ, w, h, threads);
-  int *box = xmalloc((size_t)nobj * 4 * sizeof *box);
-  for (int i = 0; i < nobj; i++) { box[4 * i] = w; box[4 * i + 1] = h; box[4 * i + 2] = -1; box[4 * i + 3] = -1; }
-  for (int y = 0; y < h; y++)
-    for (int x = 0; x < w; x++) {
-      int o = ids[(size_t)y * w + x];
-      if (o < 0) continue;
-      int *b = &box[4 * o];
-      if (x < b[0]) b[0] = x;
-      if (y < b[1]) b[1] = y;
-      if (x > b[2]) b[2] = x;
-      if (y > b[3]) b[3] = y;
-    }
-  for (int i = 0; i < nobj; i++)
-    if (box[4 * i + 2] >= 0)
-      write_region(f, ids, w, h, i, box[4 * i], box[4 * i + 1], box[4 * i + 2], box[4 * i + 3], objs[i].fill);
-  free(box);
-  free(ids);
-  line_edges_free(&ed);
-  free(occ);
 }
 
 /* ---- strokes -------------------------------------------------------------- */
@@ -120,74 +44,94 @@ static void write_stroke(FILE *f, const Stroke *st) {
   fprintf(f, "%s\"/>\n", st->closed || st->kind != STROKE_PLAIN ? " Z" : "");
 }
 
-int svg_write(const char *path, const LineObject *objs, int nobj, const Camera *cam, Color background,
-              const StrokeList *sl, int threads, char *err, size_t errlen) {
-  size_t n = strlen(path) + 8;
-  char *tmp = xmalloc(n);
-  snprintf(tmp, n, "%s.tmp", path);
-  FILE *f = fopen(tmp, "w");
-  if (!f) {
-    snprintf(err, errlen, "%s: cannot write: %s", path, strerror(errno));
-    free(tmp);
-    return 0;
+/* ---- the document --------------------------------------------------------- */
+
+/* The frame as the tracer sees it: out's colour as sRGB codes with alpha,
+** and each output pixel's owner and depth from the sample at its centre. */
+static SvgFrame frame_of(const Image *out, const GBuffer *g, int nobjects) {
+  SvgFrame fr = {out->width, out->height, NULL, NULL, NULL, nobjects, g->samples};
+  size_t np = (size_t)fr.w * fr.h;
+  int nc = out->channels, N = g->samples;
+  uint8_t *codes = xmalloc(np * (size_t)nc), *rgba = xmalloc(np * 4);
+  image_to_srgb8(out, codes);
+  fr.owner = xmalloc(np * sizeof *fr.owner);
+  fr.depth = xmalloc(np * sizeof *fr.depth);
+  for (size_t p = 0; p < np; p++) {
+    for (int c = 0; c < 3; c++) rgba[p * 4 + c] = codes[p * nc + (nc >= 3 ? c : 0)];
+    rgba[p * 4 + 3] = nc == 4 ? codes[p * nc + 3] : 255;
+    size_t x = p % fr.w, y = p / fr.w;
+    size_t q = (y * N + N / 2) * (size_t)g->width + x * N + N / 2;
+    int o = g->object[q];
+    fr.owner[p] = o == nobjects ? SVG_OWNER_ORIGAMI : o;
+    fr.depth[p] = g->depth[q];
   }
+  fr.rgba = rgba;
+  free(codes);
+  return fr;
+}
+
+static void frame_free(SvgFrame *fr) {
+  free((void *)fr->rgba);
+  free(fr->owner);
+  free(fr->depth);
+}
+
+/* Write the document for frame fr of s (camera world_to_clip, strokes sl)
+** into the open file f. Returns 0 when an origami block failed. */
+static int write_document(FILE *f, const SvgFrame *fr, const Scene *s, const Mat4 *world_to_clip,
+                          const StrokeList *sl) {
   fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
   fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\">\n",
-          cam->width, cam->height, cam->width, cam->height);
-  if (background.a > 0) {
+          fr->w, fr->h, fr->w, fr->h);
+  Color bg = s->output.background;
+  if (bg.a > 0) {
     char col[8];
-    hex_color(col, background);
-    fprintf(f, "<rect width=\"%d\" height=\"%d\" fill=\"%s\"", cam->width, cam->height, col);
-    if (background.a < 1) fprintf(f, " fill-opacity=\"%.3f\"", background.a);
+    hex_color(col, bg);
+    fprintf(f, "<rect width=\"%d\" height=\"%d\" fill=\"%s\"", fr->w, fr->h, col);
+    if (bg.a < 1) fprintf(f, " fill-opacity=\"%.3f\"", bg.a);
     fprintf(f, "/>\n");
   }
   fprintf(f, "<g id=\"regions\">\n");
-  write_regions(f, objs, nobj, cam, threads);
-  fprintf(f, "</g>\n<g id=\"strokes\">\n");
+  svg_write_regions(f, fr);
+  fprintf(f, "</g>\n");
+  int ok = svg_write_origami(f, fr, s, world_to_clip);
+  fprintf(f, "<g id=\"strokes\">\n");
   for (int i = 0; sl && i < sl->n; i++) write_stroke(f, &sl->s[i]);
   fprintf(f, "</g>\n</svg>\n");
-  int bad = ferror(f);
-  if (fclose(f) != 0) bad = 1;
-  if (bad || rename(tmp, path) != 0) {
-    snprintf(err, errlen, "%s: cannot write: %s", path, strerror(errno));
-    remove(tmp);
-    free(tmp);
-    return 0;
-  }
-  free(tmp);
-  return 1;
-}
-
-int svg_write_frame(const char *path, const RenderFrame *f, const StrokeList *sl, int threads,
-                    char *err, size_t errlen) {
-  LineObject *objs;
-  int n = line_frame_objects(f, &objs);
-  int ok = svg_write(path, objs, n, &f->camera, f->background, sl, threads, err, errlen);
-  free(objs);
   return ok;
 }
 
 int svg_render_scene(const Scene *s, const RenderOptions *o, const char *path) {
-  RenderFrame f;
-  if (!render_prepare(s, o, &f)) {
-    render_frame_free(&f);
-    return 1;
-  }
-  int threads = o->threads;
-  if (threads < 1) {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    threads = n > 0 ? (int)n : 1;
-  }
+  RenderOptions ro = *o;
   StrokeList *sl = NULL;
+  ro.strokes = &sl;
+  ro.out8 = 0;
+  ro.rows = NULL;
+  Image *img = NULL;
+  GBuffer *g = NULL;
+  if (render_scene(s, &ro, &img, &g) != 0) return 1;
+  double t0 = stats_now();
+  SvgFrame fr = frame_of(img, g, s->nobjects);
+  size_t n = strlen(path) + 8;
+  char *tmp = xmalloc(n);
+  snprintf(tmp, n, "%s.tmp", path);
+  FILE *f = fopen(tmp, "w");
   int status = 1;
-  if (line_render_frame(&f, threads, NULL, &sl, NULL)) {
-    char err[512];
-    double t0 = stats_now();
-    status = svg_write_frame(path, &f, sl, threads, err, sizeof err) ? 0 : 1;
-    if (status) fprintf(stderr, "sumi: %s\n", err);
-    stats_record("write", stats_now() - t0);
+  if (f) {
+    int ok = write_document(f, &fr, s, &g->camera.world_to_clip, sl);
+    int bad = ferror(f);
+    if (fclose(f) != 0) bad = 1;
+    if (ok && !bad && rename(tmp, path) == 0) status = 0;
+    else if (ok) fprintf(stderr, "sumi: %s: cannot write: %s\n", path, strerror(errno));
+    if (status) remove(tmp);
+  } else {
+    fprintf(stderr, "sumi: %s: cannot write: %s\n", path, strerror(errno));
   }
+  stats_record("write", stats_now() - t0);
+  free(tmp);
+  frame_free(&fr);
   stroke_list_free(sl);
-  render_frame_free(&f);
+  gbuf_destroy(g);
+  image_destroy(img);
   return status;
 }

@@ -11,7 +11,6 @@
 #include "../../src/render/edgeref.h"
 #include "../../src/render/lines.h"
 #include "../../src/render/link.h"
-#include "../../src/render/svg.h"
 #include "../../src/render/trace.h"
 #include "unit.h"
 
@@ -684,96 +683,6 @@ TEST(reference_scale) {
 }
 
 
-/* ---- SVG --------------------------------------------------------------------- */
-
-/* Signed area of the region path d ("Mx yH.. V.. Z" loops) by the
-** shoelace formula. */
-static double path_area(const char *d) {
-  double area = 0, x = 0, y = 0, sx = 0, sy = 0;
-  while (*d && *d != '"') {
-    char c = *d++;
-    double nx = x, ny = y;
-    if (c == 'M') { sx = nx = strtod(d, (char **)&d); sy = ny = strtod(d, (char **)&d); x = nx; y = ny; continue; }
-    if (c == 'H') nx = strtod(d, (char **)&d);
-    else if (c == 'V') ny = strtod(d, (char **)&d);
-    else if (c == 'Z') { nx = sx; ny = sy; }
-    else continue;
-    area += x * ny - nx * y;
-    x = nx; y = ny;
-  }
-  return area / 2;
-}
-
-static char *read_text(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *t = xmalloc((size_t)n + 1);
-  size_t got = fread(t, 1, (size_t)n, f);
-  t[got] = 0;
-  fclose(f);
-  return t;
-}
-
-/* The SVG of a cube over a quad: its text matches the snapshot
-** tests/unit/lines_cube.svg (UPDATE=1 rewrites it), and each region's
-** outline encloses exactly the pixels the object wins. */
-TEST(svg_snapshot) {
-  Mesh *cube = make_cube();
-  Mesh *floor = make_quad(v3(-3, -3, -1), v3(3, -3, -1), v3(3, 3, -1), v3(-3, 3, -1));
-  SceneLines l = lines_of(EDGE_SILHOUETTE | EDGE_CREASE);
-  SceneLines r = l;
-  r.stroke = STROKE_RIBBON;
-  r.width = 3;
-  r.kinds = EDGE_BOUNDARY;
-  LineObject o[2] = {object_of(cube, &l, 0), object_of(floor, &r, 1)};
-  o[1].fill = (Color){0.2f, 0.4f, 0.3f, 1};
-  Camera cam = make_camera(v3(4, -6, 4), v3(0, 0, 0), 0, 45, 64, 48, v3(-3, -3, -1), v3(3, 3, 1));
-  StrokeList *sl;
-  char err[256];
-  CHECK(line_render(o, 2, &cam, NULL, 1, NULL, &sl, err, sizeof err));
-  char out[512];
-  const char *tmp = getenv("TMPDIR");
-  snprintf(out, sizeof out, "%s/sumi_test_lines_%ld.svg", tmp && *tmp ? tmp : "/tmp", (long)getpid());
-  CHECK(svg_write(out, o, 2, &cam, (Color){1, 1, 1, 1}, sl, 2, err, sizeof err));
-  char *got = read_text(out);
-  CHECK(got != NULL);
-  if (getenv("UPDATE")) {
-    FILE *f = fopen("tests/unit/lines_cube.svg", "wb");
-    if (f) { fputs(got, f); fclose(f); }
-  }
-  char *want = read_text("tests/unit/lines_cube.svg");
-  CHECK(want != NULL);
-  if (got && want) CHECK(strcmp(got, want) == 0);
-  /* region areas against the object raster */
-  LineObject occ[2] = {o[0], o[1]};
-  occ[0].lines = occ[1].lines = NULL;
-  LineEdges ed;
-  line_edges_build(&ed, occ, 2, &cam);
-  int32_t *ids = line_object_ids(&ed, occ, 64, 48, 1);
-  int count[2] = {0, 0};
-  for (int i = 0; i < 64 * 48; i++) if (ids[i] >= 0) count[ids[i]]++;
-  CHECK(count[0] > 100 && count[1] > 100);
-  const char *p = got;
-  for (int k = 0; k < 2 && p; k++) {
-    p = strstr(p, "fill-rule=\"evenodd\" d=\"");
-    if (!p) break;
-    p += strlen("fill-rule=\"evenodd\" d=\"");
-    CHECK_NEAR(path_area(p), count[k], 1e-9);
-  }
-  CHECK(p != NULL);
-  free(ids);
-  line_edges_free(&ed);
-  remove(out);
-  free(got);
-  free(want);
-  stroke_list_free(sl);
-  mesh_destroy(cube);
-  mesh_destroy(floor);
-}
-
 int main(void) {
   RUN(cube_corner_edges);
   RUN(crease_threshold_and_sharpness);
@@ -792,6 +701,5 @@ int main(void) {
   RUN(deterministic_across_threads);
   RUN(empty_scene);
   RUN(reference_scale);
-  RUN(svg_snapshot);
   return unit_done();
 }
