@@ -29,6 +29,14 @@ typedef struct EdgeTest {
   Vec3 forward, eye;
 } EdgeTest;
 
+/* The crease test's bound on n0 . n1 for crease(angle): faces meeting at
+** less than LINE_COPLANAR_DEG are coplanar, so crease(0) marks every edge
+** whose faces are not (a flat polygon's diagonals never, however rounding
+** tilts their normals), the same on every edge. */
+static double crease_cos(double angle) {
+  return cos((angle > LINE_COPLANAR_DEG ? angle : LINE_COPLANAR_DEG) * M_PI / 180.0);
+}
+
 /* Kinds of edge me. */
 static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
   const int *tri_face = et->tri_face;
@@ -63,7 +71,7 @@ static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
 
 unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
                         const SceneLines *ls, const Camera *cam) {
-  EdgeTest et = {m->tri_face, world, fn, NULL, ls->kinds, cos(ls->crease_angle * M_PI / 180.0),
+  EdgeTest et = {m->tri_face, world, fn, NULL, ls->kinds, crease_cos(ls->crease_angle),
                  cam->kind == CAMERA_ORTHO, cam->forward, cam->eye};
   return edge_kind_at(&m->edges[e], &et);
 }
@@ -191,7 +199,7 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     face_normals(fn, zero, oe->front, m, world, cam);
     if (oe->lines) {
       EdgeTest et = {m->tri_face, world, fn, zero, oe->lines->kinds,
-                     cos(oe->lines->crease_angle * M_PI / 180.0), cam->kind == CAMERA_ORTHO,
+                     crease_cos(oe->lines->crease_angle), cam->kind == CAMERA_ORTHO,
                      cam->forward, cam->eye};
       int first = out->n;
       const MeshEdge *me = m->edges;

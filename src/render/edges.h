@@ -12,6 +12,13 @@
 #include "../scene/scene.h"
 #include "camera.h"
 
+/* Faces meeting at less than this angle (degrees) are coplanar for the
+** crease test. Rounding float vertices tilts the triangles of a flat
+** polygon by about 6e-8 radians times its distance from the origin over
+** its size (under this angle up to a ratio of ~3000); the faces of a
+** tessellated curve meet at degrees. */
+#define LINE_COPLANAR_DEG 0.01
+
 /* One object as the line stages see it. lines NULL (or !present) makes it
 ** an occluder only. */
 typedef struct LineObject {

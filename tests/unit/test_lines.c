@@ -182,8 +182,11 @@ TEST(cube_corner_edges) {
   mesh_destroy(m);
 }
 
-/* crease(0) marks every edge, even flat ones (angle 0 >= 0); crease(91)
-** marks none of the cube's; a subdivision sharpness makes a crease anyway. */
+/* crease(0) marks every edge whose faces are not coplanar: the cube's 12
+** edges and none of its 6 face diagonals, however it is turned, moved or
+** scaled (rounding tilts the diagonals' normals either way), and the
+** diagonal of a twisted quad; crease(91) marks none of the cube's; a
+** subdivision sharpness makes a crease anyway. */
 TEST(crease_threshold_and_sharpness) {
   Mesh *m = make_cube();
   Camera cam = make_camera(v3(3, 3, 3), v3(0, 0, 0), 0, 50, 64, 64, v3(-1, -1, -1), v3(1, 1, 1));
@@ -191,9 +194,14 @@ TEST(crease_threshold_and_sharpness) {
   l.crease_angle = 0;
   LineObject o = object_of(m, &l, 0);
   LineEdges ed;
-  line_edges_build(&ed, &o, 1, &cam);
-  CHECK_EQ_INT(ed.n, 18);
-  line_edges_free(&ed);
+  for (int k = 0; k < 24; k++) {
+    o.object_to_world = m4_mul(m4_translate(v3(0.1 * k, -0.03 * k, 0.07 * k)),
+                               m4_mul(m4_rotate_xyz(v3(7.3 * k, 11.1 * k, 13.7 * k)), m4_scale(v3(1 + 0.1 * k, 1, 1))));
+    line_edges_build(&ed, &o, 1, &cam);
+    CHECK_EQ_INT(ed.n, 12);
+    line_edges_free(&ed);
+  }
+  o.object_to_world = m4_identity();
   l.crease_angle = 91;
   line_edges_build(&ed, &o, 1, &cam);
   CHECK_EQ_INT(ed.n, 0);
@@ -206,6 +214,14 @@ TEST(crease_threshold_and_sharpness) {
   CHECK_EQ_INT(ed.edge_of[0], diag);
   line_edges_free(&ed);
   mesh_destroy(m);
+  Mesh *q = make_quad(v3(-1, -1, 0), v3(1, -1, 0), v3(1, 1, 0.01), v3(-1, 1, 0));   /* twisted */
+  l.crease_angle = 0;
+  LineObject oq = object_of(q, &l, 0);
+  line_edges_build(&ed, &oq, 1, &cam);
+  CHECK_EQ_INT(ed.n, 1);
+  if (ed.n == 1) CHECK_EQ_INT(ed.edge_of[0], find_edge(q, 0, 2));
+  line_edges_free(&ed);
+  mesh_destroy(q);
 }
 
 /* A lone quad: four boundary edges; with face_edges the diagonal (inside
