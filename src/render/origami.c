@@ -457,6 +457,34 @@ static int line_shown(const Ctx *c, const TriSetup *ts, const unsigned char *sho
 ** different ids do not cancel (any id change is an edge). */
 static int32_t id_code(int32_t id) { return (int32_t)(((uint32_t)(id + 2) * 2654435761u) >> 12); }
 
+/* The face each face is one piece of paper with: faces joined by flat
+** ("F") creases, which fold nothing, share the lowest face number among
+** them, so the Sobel lines do not draw those creases as folds. */
+static int *flat_pieces(const OrigamiModel *m) {
+  int *piece = xmalloc((size_t)(m->nfaces ? m->nfaces : 1) * sizeof *piece);
+  int *owner = xmalloc((size_t)(m->ncreases ? m->ncreases : 1) * sizeof *owner);   /* a face on it */
+  for (int f = 0; f < m->nfaces; f++) piece[f] = f;
+  for (int i = 0; i < m->ncreases; i++) owner[i] = -1;
+  for (int f = 0; f < m->nfaces; f++)
+    for (int k = m->face_start[f]; k < m->face_start[f + 1]; k++) {
+      int cr = m->face_crease[k];
+      if (cr < 0 || m->creases[cr].assignment != 'F') continue;
+      if (owner[cr] < 0) { owner[cr] = f; continue; }
+      int a = owner[cr], b = f;   /* join the two pieces: union by the lower root */
+      while (piece[a] != a) a = piece[a];
+      while (piece[b] != b) b = piece[b];
+      if (a < b) piece[b] = a;
+      else piece[a] = b;
+    }
+  for (int f = 0; f < m->nfaces; f++) {
+    int r = f;
+    while (piece[r] != r) r = piece[r];
+    piece[f] = r;
+  }
+  free(owner);
+  return piece;
+}
+
 /* Grow the marked pixels of mask by r in x, then in y (a square of side
 ** 2r + 1), with running counts: O(1) a pixel. */
 static void dilate(unsigned char *mask, int w, int h, int r) {
@@ -480,8 +508,8 @@ static void dilate(unsigned char *mask, int w, int h, int r) {
   free(tmp);
 }
 
-/* Draw the Sobel edges of the face-ID buffer (both sides of each change,
-** about 2 pixels; wider lines grow them). The buffer holds every face,
+/* Draw the Sobel edges of the face-ID buffer (both sides of each change
+** of piece, flat_pieces: about 2 pixels; wider lines grow them). The buffer holds every face,
 ** hidden or not, so a mesh in front of the paper neither adds edges along
 ** its outline nor lets the creases behind it show: a line pixel is drawn
 ** only where line_shown says the line is in front. */
@@ -491,11 +519,13 @@ static void sobel_lines(const Ctx *c, const Shading *s, const TriSetup *ts, cons
   int32_t *code = xmalloc((size_t)(w + 2) * (size_t)(h + 2) * sizeof *code);   /* clamped border */
   unsigned char *mask = xmalloc((size_t)w * (size_t)h);
   int cw = w + 2;
+  int *piece = flat_pieces(c->m);
   for (int y = -1; y <= h; y++) {
     int yy = y < 0 ? 0 : y >= h ? h - 1 : y;
     for (int x = -1; x <= w; x++) {
       int xx = x < 0 ? 0 : x >= w ? w - 1 : x;
-      code[(size_t)(y + 1) * cw + (x + 1)] = id_code(c->fid[(size_t)yy * w + xx]);
+      int32_t f = c->fid[(size_t)yy * w + xx];
+      code[(size_t)(y + 1) * cw + (x + 1)] = id_code(f >= 0 ? piece[f] : f);
     }
   }
   for (int y = 0; y < h; y++) {
@@ -516,6 +546,7 @@ static void sobel_lines(const Ctx *c, const Shading *s, const TriSetup *ts, cons
     for (int ch = 0; ch < 3; ch++) o[ch] = o[ch] * (1 - a) + s->line_color[ch] * a;
     o[3] = o[3] * (1 - a) + a;
   }
+  free(piece);
   free(mask);
   free(code);
 }

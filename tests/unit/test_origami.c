@@ -519,6 +519,43 @@ TEST(line_mode_marks_face_changes) {
   origami_free(m);
 }
 
+/* A flat ("F") crease folds nothing, so the line mode does not draw it: a
+** 2 x 2 square folded in half along a mountain at y = 1 (two layers) and
+** split at x = 1 by an F crease through both shows its outline (the right
+** edge, x = 2, is drawn) but no line at x = 1. */
+TEST(flat_crease_is_no_fold) {
+  Paper p;
+  paper_init(&p);
+  int v[8] = {vert(&p, 0, 0), vert(&p, 1, 0), vert(&p, 2, 0), vert(&p, 2, 1), vert(&p, 2, 2),
+              vert(&p, 1, 2), vert(&p, 0, 2), vert(&p, 0, 1)};
+  for (int i = 0; i < 8; i++) crease(&p, v[i], v[(i + 1) % 8], 'B');
+  crease(&p, v[1], v[5], 'F');   /* x = 1 */
+  crease(&p, v[7], v[3], 'M');   /* y = 1 */
+  OrigamiModel *m;
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  int w = 80, h = 80;
+  float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba);
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.shade.kind = SHADE_ORIGAMI;
+  st.shade.origami_mode = 0;
+  Mat4 c = view_box(-0.5, -0.5, 2.5, 2.5);   /* x = 1 at column 40, x = 2 at 66.7 */
+  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  origami_render(m, &st, &c, NULL, &t);
+  int mid = 0, right = 0;   /* dark pixels about x = 1 and x = 2, rows inside the folded half */
+  for (int y = h * 2 / 3 + 3; y < h * 5 / 6 - 3; y++)
+    for (int dx = -3; dx <= 3; dx++) {
+      const float *a = rgba + ((size_t)y * w + 40 + dx) * 4, *b = rgba + ((size_t)y * w + 66 + dx) * 4;
+      mid += a[3] > 0.5f && a[0] < 0.1f;
+      right += b[3] > 0.5f && b[0] < 0.1f;
+    }
+  CHECK_EQ_INT(mid, 0);
+  CHECK(right > 10);
+  free(rgba);
+  origami_free(m);
+}
+
 /* The texture shows on faces with the paper's front up, mapped over the
 ** paper's box: the Z fold's top face (2, front up) takes the right third
 ** of a two-colour image, a face showing its back keeps the plain colour. */
@@ -606,6 +643,7 @@ int main(void) {
   RUN(illustration_corner_brightness);
   RUN(pseudo_shading);
   RUN(line_mode_marks_face_changes);
+  RUN(flat_crease_is_no_fold);
   RUN(texture_on_the_front);
   RUN(draw_scene);
   return unit_done();
