@@ -149,6 +149,14 @@ const SrcFile *diag_file(int index) {
 
 int diag_file_count(void) { return D.nfiles; }
 
+const char *diag_path_beside(SrcRange at, const char *name, char *out, size_t n) {
+  const SrcFile *f = at.file >= 0 ? diag_file(at.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  if (name[0] == '/' || !slash) return name;
+  snprintf(out, n, "%.*s/%s", (int)(slash - f->name), f->name, name);
+  return out;
+}
+
 /* Largest source accepted, so offsets fit in an int. */
 #define DIAG_MAX_SOURCE_BYTES ((size_t)1 << 30)
 

@@ -60,6 +60,10 @@ const SrcFile *diag_file(int index);
 ** or -1 with *why set to a static reason (strerror, "is a directory"). */
 int diag_load_file(const char *path, int included_from, SrcRange include_loc, const char **why);
 int diag_file_count(void);
+/* name as a path relative to the folder of the source file at points into
+** (as mesh("file") and texture names are read), into out (n bytes); an
+** absolute name, or a source with no folder, gives name itself. */
+const char *diag_path_beside(SrcRange at, const char *name, char *out, size_t n);
 
 /* Report a diagnostic. fmt is printf-style. A note attaches to the message
 ** before it. */

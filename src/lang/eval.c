@@ -1138,6 +1138,7 @@ static void run_program(EvalJob *job, char *stack_base, size_t stack_size) {
   int mark;
   ev.genv = env_open(&ev, ev.global, NULL, &local, &mark, src_none());
   if (ev.genv && !diag_too_many()) ev_body(&ev, b, ev.genv);
+  if (!ev.stop) schema_finish(&ev);
   job->out->clock = job->opt->clock;
   job->out->frame = job->opt->frame;
   job->result = diag_error_count() > before;

@@ -55,7 +55,14 @@ static void print_output(const SceneOutput *o, FILE *out) {
   else fputs("output.size default\n", out);
   fprintf(out, "output.samples %d\n", o->samples);
   line_color(out, "output.", "background", o->background);
-  if (o->sheet) fprintf(out, "output.sheet \"%s\"\n", o->sheet);
+  const SceneSheet *sh = &o->sheet;
+  if (!sh->texture) return;
+  fprintf(out, "output.sheet \"%s\"\n", sh->texture);
+  line_color(out, "output.sheet.", "color", sh->color);
+  fprintf(out, "output.sheet.seed %d\n", sh->seed);
+  line_num(out, "output.sheet.", "scale", sh->scale);
+  line_num(out, "output.sheet.", "fibres", sh->fibres);
+  line_num(out, "output.sheet.", "grain", sh->grain);
 }
 
 static void print_camera(const SceneCamera *c, FILE *out) {
@@ -71,6 +78,7 @@ static void print_camera(const SceneCamera *c, FILE *out) {
 static void print_light(int i, const SceneLight *l, FILE *out) {
   char pre[32];
   snprintf(pre, sizeof pre, "light[%d].", i);
+  if (l->name) fprintf(out, "%sname %s\n", pre, l->name);
   if (l->kind == LIGHT_POINT) { fprintf(out, "%sposition ", pre); put_vec3(out, l->position); }
   else { fprintf(out, "%sdirection ", pre); put_vec3(out, l->direction); }
   fputc('\n', out);
@@ -96,6 +104,31 @@ static void print_bokashi(const char *pre, const ShadeBokashi *b, FILE *out) {
   line_num(out, pre, "rate", b->rate);
 }
 
+static void print_list(FILE *out, const char *pre, const char *key, const double *x, int n) {
+  fprintf(out, "%s%s", pre, key);
+  for (int i = 0; i < n; i++) { fputc(' ', out); put_num(out, x[i]); }
+  fputc('\n', out);
+}
+
+static void print_ink(const char *pre, const ShadeInk *k, FILE *out) {
+  static const char *strengths[] = {"small", "medium", "large"};
+  static const char *stages[] = {"gouraud", "quantised", "diffused", "filtered"};
+  line_num(out, pre, "diffuse", k->diffuse);
+  print_list(out, pre, "levels", k->levels, k->nlevels);
+  if (k->ntones) print_list(out, pre, "tones", k->tones, k->ntones);
+  fprintf(out, "%sdiffusion %s\n%spasses %d\n", pre, strengths[k->diffusion], pre, k->passes);
+  line_num(out, pre, "ink_threshold", k->ink_threshold);
+  line_num(out, pre, "water_threshold", k->water_threshold);
+  line_num(out, pre, "roughness", k->roughness);
+  fprintf(out, "%sbox_filter %d\n", pre, k->box_filter);
+  line_color(out, pre, "color", k->color);
+  fprintf(out, "%sstage %s\n", pre, stages[k->stage]);
+  if (!k->nlights) return;
+  fprintf(out, "%slights", pre);
+  for (int i = 0; i < k->nlights; i++) fprintf(out, " %s", k->lights[i]);
+  fputc('\n', out);
+}
+
 static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   static const char *names[] = {"none", "flat", "gouraud", "phong", "toon", "threshold", "bokashi", "ink", "origami"};
   fprintf(out, "%skind %s%s%s\n", pre, names[s->kind], s->subkind ? " " : "", s->subkind ? s->subkind : "");
@@ -116,6 +149,7 @@ static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   line_num(out, pre, "specular", t->specular);
   line_num(out, pre, "shininess", t->shininess);
   if (s->kind == SHADE_FLAT) fprintf(out, "%slit %s\n", pre, s->lit ? "true" : "false");
+  if (s->kind == SHADE_INK) print_ink(pre, &s->ink, out);
   if (s->kind != SHADE_TOON) return;
   fprintf(out, "%sbands %d\n", pre, t->bands);
   line_num(out, pre, "threshold", t->threshold);

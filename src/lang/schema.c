@@ -408,6 +408,112 @@ static int cv_weights(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* ---- shade ink and the sheet ---------------------------------------------- */
+
+/* A list of 1..max numbers in [0, 1], each above the one before it (the
+** quantisation's ranges and tones run from dark to light), into out. */
+static int ink_rising(Ctx *c, const Prop *p, int max, double *out, int *n) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n < 1) return expect(c, p, 0, "a list of numbers from 0 to 1");
+  if (v->u.l->n > max) {
+    ev_error(c->ev, p->vloc[0], "`%s` in `%s` takes at most %d values; found %d", p->name, c->what, max,
+             v->u.l->n);
+    return -1;
+  }
+  for (int k = 0; k < v->u.l->n; k++) {
+    const Value *x = &v->u.l->v[k];
+    if (x->kind != V_NUM) return expect(c, p, 0, "a list of numbers from 0 to 1");
+    char got[32], prev[32];
+    val_format_number(got, sizeof got, x->u.n);
+    if (!(x->u.n >= 0 && x->u.n <= 1)) {
+      ev_error(c->ev, p->vloc[0], "`%s` in `%s`: value %d is %s, outside 0 to 1", p->name, c->what, k + 1, got);
+      return -1;
+    }
+    if (k > 0 && !(x->u.n > out[k - 1])) {
+      val_format_number(prev, sizeof prev, out[k - 1]);
+      ev_error(c->ev, p->vloc[0], "`%s` in `%s` are out of order: value %d (%s) is not above value %d (%s); "
+               "they rise from dark to light", p->name, c->what, k + 1, got, k, prev);
+      return -1;
+    }
+    out[k] = x->u.n;
+  }
+  *n = v->u.l->n;
+  return 0;
+}
+
+/* levels [0.4, 0.6, 0.9]: the thresholds of the quantisation. */
+static int cv_ink_levels(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ShadeInk *k = &((SceneShade *)t)->ink;
+  k->levels_loc = p->vloc[0];
+  if (ink_rising(c, p, INK_MAX_TONES - 1, k->levels, &k->nlevels)) return -1;
+  if (k->levels[0] > 0) return 0;
+  ev_error(c->ev, p->vloc[0], "`levels` in `%s`: the first threshold must be above 0 (the darkest range "
+           "[0, t) would be empty)", c->what);
+  return -1;
+}
+
+/* tones [0.4, 0.6, 0.9, 1]: the value each range becomes. */
+static int cv_ink_tones(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ShadeInk *k = &((SceneShade *)t)->ink;
+  k->tones_loc = p->vloc[0];
+  return ink_rising(c, p, INK_MAX_TONES, k->tones, &k->ntones);
+}
+
+/* lights key, rim;: names of the scene's lights (checked when rendering:
+** a light may be written after the style). */
+static int cv_ink_lights(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ShadeInk *k = &((SceneShade *)t)->ink;
+  k->lights = arena_alloc(&c->ev->scene->arena, (size_t)(p->n + 1) * sizeof *k->lights);
+  for (int i = 0; i < p->n; i++) {
+    const Value *v = &p->v[i];
+    const char *name = v->kind == V_SYMBOL && !v->u.sym->args ? v->u.sym->name : v->kind == V_STR ? v->u.s->s : NULL;
+    if (!name) return expect(c, p, i, "the name of a light");
+    k->lights[i] = scene_str(c, name);
+  }
+  k->nlights = p->n;
+  k->lights_loc = p->loc;
+  return 0;
+}
+
+/* After a shade ink block: the tones must match the ranges, the box be odd. */
+static int check_ink(Ctx *c, const ShadeInk *k) {
+  if (k->ntones && k->ntones != k->nlevels + 1) {
+    ev_error(c->ev, k->tones_loc, "`tones` in `%s` needs %d values, one for each range the %d `levels` make; "
+             "found %d", c->what, k->nlevels + 1, k->nlevels, k->ntones);
+    return -1;
+  }
+  return 0;
+}
+
+static int cv_box_filter(Ctx *c, const Prop *p, const Row *r, void *t) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_NUM || v->u.n != floor(v->u.n) || v->u.n < 1 || v->u.n > INK_MAX_BOX || fmod(v->u.n, 2) != 1) {
+    char got[32] = "";
+    if (v->kind == V_NUM) val_format_number(got, sizeof got, v->u.n);
+    ev_error(c->ev, p->vloc[0], "`box_filter` in `%s` is the box's side: an odd whole number from 1 (none) to %d; "
+             "found %s", c->what, INK_MAX_BOX, v->kind == V_NUM ? got : a_type(v));
+    return -1;
+  }
+  ((SceneShade *)t)->ink.box_filter = (int)v->u.n;
+  return 0;
+}
+
+/* sheet "xuan"; or sheet "paper.png"; in output: the paper, with the
+** defaults of a `sheet { }` block. */
+static int cv_sheet(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOutput *o = t;
+  if (p->v[0].kind != V_STR) return expect(c, p, 0, "a string: \"xuan\" or an image file");
+  if (o->sheet.texture) {
+    ev_error(c->ev, name_range(p), "the sheet is given twice in `output`");
+    diag_note(o->sheet.loc, "first given here");
+    return -1;
+  }
+  o->sheet = scene_default_sheet();
+  o->sheet.texture = scene_str(c, p->v[0].u.s->s);
+  o->sheet.loc = p->vloc[0];
+  return 0;
+}
+
 /* An index from 0 to n-1 in a value. */
 static int get_index(const Value *v, int n, int *out) {
   if (v->kind != V_NUM || v->u.n != floor(v->u.n) || v->u.n < 0 || v->u.n >= n) return 0;
@@ -640,7 +746,16 @@ static const Row output_rows[] = {
   CUSTOM("size", cv_size, 0),
   TYPED("background", T_COLOR, SceneOutput, background),
   INT("samples", SceneOutput, samples, 1, SCHEMA_MAX_SAMPLES, 1),
-  {"sheet", T_STRING, 0, 0, NAN, offsetof(SceneOutput, sheet), R_FILE, NULL, NULL},
+  CUSTOM("sheet", cv_sheet, R_FILE),
+};
+
+static const Row sheet_rows[] = {
+  {"texture", T_STRING, 0, 0, NAN, offsetof(SceneSheet, texture), R_FILE, NULL, NULL},
+  TYPED("color", T_COLOR, SceneSheet, color),
+  INT("seed", SceneSheet, seed, 0, 2147483647, 0),
+  NUM("scale", SceneSheet, scale, 0.05, 64, 1),
+  NUM("fibres", SceneSheet, fibres, 0, 16, 1),
+  NUM("grain", SceneSheet, grain, 0, 1, 0.5),
 };
 
 static const Row camera_rows[] = {
@@ -713,9 +828,25 @@ static const Row shade_bokashi_rows[] = {
   BOOL("per_pixel", SceneShade, bokashi.per_pixel),
 };
 
+/* The thesis's intent for the Gouraud image: strong diffuse and specular,
+** weak ambient (ch. 5.2, Fig. 5.3). */
 static const Row shade_ink_rows[] = {
-  LIGHTING_ROWS,
-  PARAM("levels", 0), PARAM("diffusion", R_SYM), PARAM("box_filter", 0), PARAM("color", 0),
+  NUM("ambient", SceneShade, toon.ambient, 0, 1, 0.05),
+  NUM("diffuse", SceneShade, ink.diffuse, 0, 100, 0.9),
+  NUM("specular", SceneShade, toon.specular, 0, INFINITY, 0.5),
+  NUM("shininess", SceneShade, toon.shininess, 0, 10000, 10),
+  CUSTOM("levels", cv_ink_levels, 0),
+  CUSTOM("tones", cv_ink_tones, 0),
+  {"diffusion", T_SYMBOL, 0, 0, INK_MEDIUM, offsetof(SceneShade, ink.diffusion), R_SYM, "small|medium|large", NULL},
+  INT("passes", SceneShade, ink.passes, 0, INK_MAX_PASSES, 0),
+  NUM("ink_threshold", SceneShade, ink.ink_threshold, 0, 255, 8),
+  NUM("water_threshold", SceneShade, ink.water_threshold, 0, 1000, 0),
+  NUM("roughness", SceneShade, ink.roughness, 0, 1, 0.35),
+  CUSTOM("box_filter", cv_box_filter, 0),
+  TYPED("color", T_COLOR, SceneShade, ink.color),
+  {"stage", T_SYMBOL, 0, 0, INK_STAGE_FILTERED, offsetof(SceneShade, ink.stage), R_SYM,
+   "gouraud|quantised|diffused|filtered", NULL},
+  CUSTOM("lights", cv_ink_lights, R_MANY | R_SYM),
 };
 
 static const Row noise_rows[] = {
@@ -791,7 +922,7 @@ typedef struct Schema {
 #define ROWS(r) r, (int)(sizeof r / sizeof r[0])
 /* One row per block kind (and per shading model). */
 static const Schema schemas[] = {
-  {"output", NULL, ROWS(output_rows), "", W_NONE, 1},
+  {"output", NULL, ROWS(output_rows), "sheet", W_NONE, 1},
   {"camera", NULL, ROWS(camera_rows), "", W_NAME, 1},
   {"light", NULL, ROWS(light_rows), "", W_NAME, 1},
   {"style", NULL, ROWS(style_rows), "shade|lines|noise|pattern", W_NAME, 1},
@@ -809,6 +940,7 @@ static const Schema schemas[] = {
   {"object", NULL, ROWS(object_rows), "", W_NAME, 1},
   {"origami", NULL, ROWS(origami_rows), "paper", W_NAME, 1},
   {"paper", NULL, ROWS(paper_rows), "", W_NONE, 0},
+  {"sheet", NULL, ROWS(sheet_rows), "", W_NONE, 0},
 };
 #define NSCHEMAS ((int)(sizeof schemas / sizeof schemas[0]))
 
@@ -819,8 +951,6 @@ static const Schema schemas[] = {
 ** model, or the property of kind); a row goes when its stage lands. */
 static const struct { const char *kind, *word, *instead; } placeholders[] = {
   {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
-  {"shade", "ink", "`shade ink` is not drawn yet: the object is shaded as `shade phong`"},
-  {"output", "sheet", "`sheet` is not drawn yet: the background colour shows instead"},
 };
 
 /* Warn at `at` when kind (with word, or NULL) is a placeholder. */
@@ -1038,7 +1168,8 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   apply_defaults(s, sh);
   snprintf(c->what, sizeof c->what, "shade %s", b->words[0]);
   c->pass = "shade";
-  return check_props(c, s, b, sh);
+  if (check_props(c, s, b, sh)) return -1;
+  return sh->kind == SHADE_INK ? check_ink(c, &sh->ink) : 0;
 }
 
 static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
@@ -1166,6 +1297,28 @@ static int emit_origami(Ctx *c, const Schema *s, const BlockVal *b) {
   return 0;
 }
 
+/* sheet { texture "xuan"; seed 3; ... } inside output. */
+static int emit_sheet(Ctx *c, const BlockVal *b, SceneOutput *o) {
+  if (strcmp(b->kind, "sheet") != 0) { unknown_kind(c, b, "sheet", " inside `output`"); return -1; }
+  if (o->sheet.texture) {
+    ev_error(c->ev, b->loc, "the sheet is given twice in `output`");
+    diag_note(o->sheet.loc, "first given here");
+    return -1;
+  }
+  const Schema *s = find_schema("sheet", NULL);
+  Ctx sc = *c;
+  snprintf(sc.what, sizeof sc.what, "sheet");
+  SceneSheet sh = scene_default_sheet();
+  apply_defaults(s, &sh);
+  sh.texture = "xuan";
+  sh.loc = b->loc;
+  if (check_words(&sc, s, b) || check_props(&sc, s, b, &sh) || no_subs(&sc, b)) return -1;
+  for (int i = 0; i < b->nprops; i++)   /* a diagnostic about the image points at its name */
+    if (!strcmp(b->props[i].name, "texture")) sh.loc = b->props[i].vloc[0];
+  o->sheet = sh;
+  return 0;
+}
+
 /* camera and output may appear once: a second points at the first. */
 static int once(Ctx *c, const BlockVal *b, SrcRange first, int present) {
   if (!present) return 0;
@@ -1180,7 +1333,9 @@ static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
     if (once(c, b, sc->output.loc, sc->output.loc.file >= 0)) return -1;
     apply_defaults(s, &sc->output);
     sc->output.loc = b->loc;
-    return check_props(c, s, b, &sc->output) || no_subs(c, b) ? -1 : 0;
+    int bad = check_props(c, s, b, &sc->output);
+    for (int i = 0; i < b->nsubs; i++) bad |= emit_sheet(c, b->subs[i], &sc->output);
+    return bad ? -1 : 0;
   }
   if (strcmp(b->kind, "camera") == 0) {
     if (once(c, b, sc->camera.loc, sc->camera.present)) return -1;
@@ -1196,6 +1351,7 @@ static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
   SceneLight l;   /* light */
   memset(&l, 0, sizeof l);
   apply_defaults(s, &l);
+  l.name = b->nwords ? scene_str(c, b->words[0]) : NULL;
   l.kind = LIGHT_POINT;
   l.position = v3(0, 0, 10);
   l.color = (Color){1, 1, 1, 1};
@@ -1214,6 +1370,37 @@ static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
   sc->lights = grow(c, sc->lights, sc->nlights, sizeof *sc->lights);
   sc->lights[sc->nlights++] = l;
   return 0;
+}
+
+/* The lights a shade ink style names, as indices into the scene's. */
+static void resolve_ink_lights(Ctx *c, ShadeInk *k) {
+  Scene *sc = c->ev->scene;
+  const char **names = arena_alloc(&sc->arena, ((size_t)sc->nlights + 1) * sizeof *names);
+  int nnamed = 0;
+  for (int i = 0; i < sc->nlights; i++)
+    if (sc->lights[i].name) names[nnamed++] = sc->lights[i].name;
+  k->light_index = arena_alloc(&sc->arena, (size_t)k->nlights * sizeof *k->light_index);
+  for (int i = 0; i < k->nlights; i++) {
+    k->light_index[i] = -1;
+    for (int j = 0; j < sc->nlights && k->light_index[i] < 0; j++)
+      if (sc->lights[j].name && !strcmp(sc->lights[j].name, k->lights[i])) k->light_index[i] = j;
+    if (k->light_index[i] >= 0) continue;
+    const char *sug = suggest_name(k->lights[i], names, nnamed);
+    if (sug) ev_error(c->ev, k->lights_loc, "`lights` in `shade ink`: no light is named `%s`; did you mean `%s`?",
+                      k->lights[i], sug);
+    else ev_error(c->ev, k->lights_loc, "`lights` in `shade ink`: no light is named `%s` (name one: "
+                  "`light %s { ... }`)", k->lights[i], k->lights[i]);
+  }
+}
+
+void schema_finish(Eval *ev) {
+  Ctx c;
+  memset(&c, 0, sizeof c);
+  c.ev = ev;
+  Scene *sc = ev->scene;
+  for (int i = 0; i < sc->nstyles; i++)
+    if (sc->styles[i].shade.kind == SHADE_INK && sc->styles[i].shade.ink.nlights)
+      resolve_ink_lights(&c, &sc->styles[i].shade.ink);
 }
 
 int schema_emit(Eval *ev, BlockVal *b) {

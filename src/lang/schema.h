@@ -18,6 +18,9 @@
 #define SCHEMA_MAX_SAMPLES 16
 
 int schema_emit(Eval *ev, BlockVal *b);
+/* The checks that need the whole scene, once every block is in: the
+** lights a shade ink style names (a light may come after the style). */
+void schema_finish(Eval *ev);
 int schema_wants_symbol(const char *kind, const char *word, const char *prop);
 /* Whether name is one of the words property prop of block kind (word: its
 ** sub-kind) knows. A bare word there that it does not know and that names

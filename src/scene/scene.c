@@ -11,6 +11,7 @@ void scene_init(Scene *s) {
   arena_init(&s->arena);
   s->output.samples = 1;
   s->output.background = (Color){1, 1, 1, 1};
+  s->output.sheet = scene_default_sheet();
   s->output.loc = src_none();
   s->camera.up = v3(0, 0, 1);
   s->camera.fov = 30;
@@ -42,6 +43,7 @@ SceneStyle scene_default_style(void) {
   st.shade.origami_weights[1] = 0.225;
   st.shade.origami_weights[2] = 0.15;
   st.shade.origami_radius = 8;
+  st.shade.ink = scene_default_ink();
   st.shade.loc = src_none();
   SceneLines *l = &st.lines;
   l->present = 1;
@@ -62,6 +64,33 @@ SceneStyle scene_default_style(void) {
   return st;
 }
 
+ShadeInk scene_default_ink(void) {
+  ShadeInk k;
+  memset(&k, 0, sizeof k);
+  k.diffuse = 0.9;
+  k.nlevels = 3;   /* the thesis's thresholds 0.4, 0.6, 0.9; each range becomes its upper end */
+  k.levels[0] = 0.4; k.levels[1] = 0.6; k.levels[2] = 0.9;
+  k.diffusion = INK_MEDIUM;
+  k.ink_threshold = 8;
+  k.roughness = 0.35;
+  k.box_filter = 5;
+  k.color = (Color){0, 0, 0, 1};
+  k.stage = INK_STAGE_FILTERED;
+  k.levels_loc = k.tones_loc = k.lights_loc = src_none();
+  return k;
+}
+
+SceneSheet scene_default_sheet(void) {
+  SceneSheet sh;
+  memset(&sh, 0, sizeof sh);
+  sh.color = (Color){0.8714f, 0.8070f, 0.6939f, 1};   /* display #f0e8d9, a warm unbleached white */
+  sh.scale = 1;
+  sh.fibres = 1;
+  sh.grain = 0.5;
+  sh.loc = src_none();
+  return sh;
+}
+
 const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const char *name) {
   for (int i = s->nparams - 1; i >= 0; i--)   /* the last one given wins */
     if (strcmp(s->params[i].pass, pass) == 0 && strcmp(s->params[i].name, name) == 0) return &s->params[i];
@@ -69,7 +98,7 @@ const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const
 }
 
 int scene_any_image(const Scene *s, int (*pred)(const char *name)) {
-  if (s->output.sheet && pred(s->output.sheet)) return 1;
+  if (s->output.sheet.texture && pred(s->output.sheet.texture)) return 1;
   for (int i = 0; i < s->nstyles; i++) {
     const SceneStyle *st = &s->styles[i];
     if ((st->lines.present && st->lines.texture && pred(st->lines.texture)) ||

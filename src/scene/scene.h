@@ -16,11 +16,23 @@
 
 typedef struct Color { float r, g, b, a; } Color;
 
+/* The paper under the whole image (`sheet "xuan";` or `sheet { ... }` in
+** output; Yeh ch. 6): it replaces the background colour. */
+typedef struct SceneSheet {
+  const char *texture;        /* "xuan" (procedural) or an image file as written; NULL = no sheet */
+  Color color;                /* the procedural paper's tint (linear) */
+  int seed;                   /* the procedural fibres' */
+  double scale;               /* fibre size, or texels a pixel of an image */
+  double fibres;              /* how many fibres, 1 = the default density */
+  double grain;               /* how strongly ink follows the absorbency, 0..1 */
+  SrcRange loc;
+} SceneSheet;
+
 typedef struct SceneOutput {
   int width, height;          /* 0 = not set (defaults to 640x480) */
   int samples;                /* N x N samples a pixel, >= 1 */
   Color background;
-  const char *sheet;          /* paper under everything, or NULL */
+  SceneSheet sheet;
   SrcRange loc;
 } SceneOutput;
 
@@ -39,6 +51,7 @@ typedef enum { LIGHT_POINT, LIGHT_DIRECTIONAL } LightKind;
 typedef enum { FALLOFF_NONE, FALLOFF_INVERSE_SQUARE } LightFalloff;
 
 typedef struct SceneLight {
+  const char *name;           /* `light NAME { }`, or NULL */
   LightKind kind;
   Vec3 position;              /* LIGHT_POINT */
   Vec3 direction;             /* LIGHT_DIRECTIONAL: the way the rays travel */
@@ -80,6 +93,37 @@ typedef struct ShadeBokashi {
   double rate;                /* gradation per scene unit at the centre's depth */
   int per_pixel;              /* sphere: 1 Phong (per pixel), 0 Gouraud (per vertex) */
 } ShadeBokashi;
+/* shade ink (Yeh ch. 5.2): quantised Gouraud, ink diffusion, box filter. */
+#define INK_MAX_TONES 8
+/* Most diffusion passes a style may ask for: each pass moves ink one pixel,
+** so this bounds how far ink runs (and the work) whatever the strength. */
+#define INK_MAX_PASSES 256
+/* Largest box filter side: its window is side x side pixels. */
+#define INK_MAX_BOX 31
+typedef enum { INK_SMALL, INK_MEDIUM, INK_LARGE } InkStrength;
+typedef enum { INK_STAGE_GOURAUD, INK_STAGE_QUANTISED, INK_STAGE_DIFFUSED, INK_STAGE_FILTERED } InkStage;
+
+typedef struct ShadeInk {
+  double diffuse;             /* k_d of the high-contrast Gouraud image (ambient, specular and
+                                 shininess are in ShadeToon) */
+  int nlevels;                /* thresholds: [0, levels[0]) is the darkest range ... */
+  double levels[INK_MAX_TONES - 1];
+  int ntones;                 /* the value each range becomes (nlevels + 1 of them); 0 = the
+                                 levels, then 1 */
+  double tones[INK_MAX_TONES];
+  int diffusion;              /* InkStrength */
+  int passes;                 /* diffusion passes; 0 = the strength's */
+  double ink_threshold;       /* rule 3: the least ink difference that transfers */
+  double water_threshold;     /* rule 1: the water a pixel needs to transfer */
+  double roughness;           /* spread of the paper's resistance to the ink, 0..1 */
+  int box_filter;             /* side of the last box filter, odd; 1 = none */
+  Color color;                /* the ink (linear) */
+  int stage;                  /* InkStage: the last stage drawn */
+  int nlights;                /* `lights a, b;`: the lights of the Gouraud image; 0 = all */
+  const char **lights;
+  int *light_index;           /* their indices into Scene.lights (once evaluated) */
+  SrcRange levels_loc, tones_loc, lights_loc;
+} ShadeInk;
 
 typedef struct SceneShade {
   ShadeKind kind;
@@ -93,6 +137,7 @@ typedef struct SceneShade {
   double origami_weights[3];  /* wa, wb, wc: default 0.675, 0.225, 0.15 */
   double origami_radius;      /* shaded mode's disk, pixels */
   const char *origami_texture;
+  ShadeInk ink;
   SrcRange loc;
 } SceneShade;
 
@@ -290,6 +335,10 @@ void scene_init(Scene *s);
 void scene_free(Scene *s);
 /* The style every object without one gets. */
 SceneStyle scene_default_style(void);
+/* shade ink's defaults (Yeh ch. 5.2) and the sheet's (ch. 6), as the
+** schema fills them for a block that sets nothing. */
+ShadeInk scene_default_ink(void);
+SceneSheet scene_default_sheet(void);
 /* A pass parameter without a field of its own, or NULL when not given. */
 const SceneParam *scene_style_param(const SceneStyle *s, const char *pass, const char *name);
 
