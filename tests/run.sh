@@ -11,7 +11,9 @@
 #
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
-# "// tolerance: --max-diff N --max-frac F" overrides the default tolerance.
+# "// tolerance: --max-diff N --max-frac F" overrides the default tolerance,
+# and "// needs: /path" (among the first three) skips the case when the file
+# a Debian package installs there is absent.
 # UPDATE=1 rewrites the text snapshots, UPDATE_GOLDEN=1 the golden images.
 
 BUILD=${BUILD:-build}
@@ -70,6 +72,10 @@ for f in "$ROOT"/tests/render/*.npr; do
   [ -e "$f" ] || continue
   name=$(basename "$f" .npr)
   golden="$ROOT/tests/render/$name.png"
+  need=$(head -3 "$f" | sed -n 's|^// needs: *||p')
+  if [ -n "$need" ] && [ ! -e "$need" ]; then
+    skipped=$((skipped + 1)); echo "skip render/$name ($need is not installed)"; continue
+  fi
   tol=$(sed -n 's|^// tolerance: *||p' "$f" | head -1)
   # shellcheck disable=SC2046
   if ! (cd "$ROOT/tests/render" && "$SUMI" render "$name.npr" -o "$OUT/$name.png" $(args_of "$f") >"$OUT/$name.log" 2>&1); then

@@ -145,12 +145,8 @@ int line_frame_objects(const RenderFrame *f, LineObject **out) {
 ** wrote it (as mesh("file") is), into out; the built-in names stay. */
 static const char *texture_path(const SceneLines *ls, char *out, size_t n) {
   const char *t = ls->texture;
-  if (!t || !strcmp(t, "ink") || !strcmp(t, "solid") || t[0] == '/') return t;
-  const SrcFile *f = ls->loc.file >= 0 ? diag_file(ls->loc.file) : NULL;
-  const char *slash = f ? strrchr(f->name, '/') : NULL;
-  if (!slash) return t;
-  snprintf(out, n, "%.*s/%s", (int)(slash - f->name), f->name, t);
-  return out;
+  if (!t || !strcmp(t, "ink") || !strcmp(t, "solid")) return t;
+  return diag_path_beside(ls->loc, t, out, n);
 }
 
 int line_frame_draws(const RenderFrame *f) {

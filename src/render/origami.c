@@ -9,45 +9,13 @@
 #include <string.h>
 
 #include "../base/mem.h"
+#include "display.h"
 
 /* Sub-pixel bits of the rasterizer's fixed-point coordinates, and the
 ** largest |coordinate| in pixels kept exact (products stay in int64). */
 #define SUBPIX_BITS 8
 #define SUBPIX (1 << SUBPIX_BITS)
 #define MAX_COORD 1048576.0
-
-/* ---- colour ------------------------------------------------------------ */
-
-static float srgb_to_linear(float c) {
-  if (c <= 0) return 0;
-  if (c >= 1) return c == 1 ? 1 : powf(c, 2.4f);   /* > 1 stays monotone */
-  return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
-/* Display -> linear through a table (powf per channel per pixel was most
-** of a frame): 4096 steps over [0, 1], linear in between. */
-#define SRGB_LUT 4096
-static float srgb_lut[SRGB_LUT + 2];
-
-static void srgb_lut_init(void) {
-  if (srgb_lut[SRGB_LUT] == 1) return;
-  for (int i = 0; i <= SRGB_LUT; i++) srgb_lut[i] = srgb_to_linear((float)i / SRGB_LUT);
-  srgb_lut[SRGB_LUT + 1] = 1;
-}
-
-static float display_to_linear(float c) {
-  if (!(c > 0)) return 0;
-  if (c >= 1) return srgb_to_linear(c);
-  float x = c * SRGB_LUT;
-  int i = (int)x;
-  return srgb_lut[i] + (x - (float)i) * (srgb_lut[i + 1] - srgb_lut[i]);
-}
-
-static float linear_to_srgb(float c) {
-  if (c <= 0) return 0;
-  if (c >= 1) return 1;
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * powf(c, 1 / 2.4f) - 0.055f;
-}
 
 /* ---- projection -------------------------------------------------------- */
 
@@ -619,7 +587,7 @@ static void paint_pixel(const Paint *pt, const Ctx *c, int x, int y, OrigamiTarg
     }
     float tc[3];
     sample_texture(pt->texture, u, v, tc);
-    for (int ch = 0; ch < 3; ch++) base[ch] = linear_to_srgb(tc[ch]);
+    for (int ch = 0; ch < 3; ch++) base[ch] = display_from_linear(tc[ch]);
   }
   float k = 1;                                               /* display-space brightness */
   if (pt->bt) k = b[0] * pt->bt[tri][0] + b[1] * pt->bt[tri][1] + b[2] * pt->bt[tri][2];
@@ -637,7 +605,6 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
   ctx_project(&c, object_to_clip);
   raster_ids(&c, NULL);                                      /* §5.1 */
   Shading s = shading_of(style, t->pixel_scale);
-  srgb_lut_init();
   Paint pt = {.s = &s, .texture = texture};
   pt.bt = s.mode > 0 ? corner_values(&c, &s) : NULL;         /* §5.3 */
   float *occ = NULL;

@@ -21,6 +21,8 @@
 #include "../geom/subdiv.h"
 #include "../geom/tessellate.h"
 #include "../lang/diag.h"
+#include "canvas.h"
+#include "ink.h"
 #include "lines.h"
 #include "origami.h"
 #include "raster.h"
@@ -424,6 +426,7 @@ static void prepare_view(RenderFrame *f) {
     shade_centre_init(f, o);
     if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
     if (o->style->kind == SHADE_BOKASHI) shade_bokashi_prepare(f, o);
+    if (o->style->ink) shade_ink_vertex_values(f, o);
   }
 }
 
@@ -460,6 +463,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
     retess = stats_now() - t3;
   }
   prepare_lights(s, f);
+  ok &= shade_ink_prepare(f);
   prepare_view(f);
   ok = ok && screentex_prepare(f);
   stats_record("prepare", t1 - t0 + stats_now() - t2 - retess);
@@ -478,8 +482,10 @@ void render_frame_free(RenderFrame *f) {
     free(o->backfacing);
     free(o->vcolor);
     shade_bokashi_free(o);
+    free(o->vink);
   }
   screentex_free(f);
+  shade_ink_free(f);
   free(f->objects);
   free(f->lights);
   free(f->styles);
@@ -765,9 +771,9 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, i
     for (e = k + 1; e < n && obj[e] == obj[k]; e++) {}
     const RenderObject *o = &objects[obj[k]];
     job->span[o->style - job->f->styles](row, o, k, e, out, nc);
-    if (o->tex) screentex_span(row, o, k, e, out, nc);
-    if (nc == 4)
-      for (int j = k; j < e; j++) out[j * 4 + 3] = 1;
+    if (o->tex && o->style->alpha > 0) screentex_span(row, o, k, e, out, nc);   /* not under ink's alpha 0 */
+    if (nc == 4)   /* 1, or 0 for a style the canvas paints afterwards (ink) */
+      for (int j = k; j < e; j++) out[j * 4 + 3] = o->style->alpha;
   }
 }
 
@@ -1127,13 +1133,18 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     render_frame_free(&f);
     return 1;
   }
+  /* a sheet or ink objects: the tile pass draws over nothing (a
+  ** transparent background) and the canvas (canvas.h) paints the paper and
+  ** the ink under it afterwards, from the G-buffer */
+  int canvas = canvas_wanted(s, &f);
+  if (canvas) f.background = (Color){0, 0, 0, 0};
   /* RGB over an opaque background (smaller, and PNG encodes it faster);
   ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
-  ** they finish each row, unless origami sheets (composited in float)
-  ** come over it */
+  ** they finish each row, unless origami sheets or the canvas (both in
+  ** float) come over it */
   int nc = f.background.a >= 1 ? 3 : 4;
   double t0 = stats_now();
-  if (o->out8 && s->norigami == 0) {
+  if (o->out8 && s->norigami == 0 && !canvas) {
     /* the tile pass writes every byte: no clearing, and each page is first
     ** touched by the worker filling it (clearing and faulting the pages in
     ** here cost ~3 ms at 1080p, alone) */
@@ -1146,9 +1157,10 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   /* an 8-bit frame nothing is drawn over goes to its file while the pass runs */
   const RenderRows *rows = o->rows && (*out)->data8 && !line_frame_draws(&f) ? o->rows : NULL;
   if (rows) rows->begin(rows->ctx, *out);
-  /* origami composes with meshes through the sample depths, so it needs the G-buffer */
+  /* origami composes with meshes through the sample depths, and the canvas
+  ** reads the ink objects' samples: both need the G-buffer */
   GBuffer *gbuf = NULL;
-  render_frame(&f, o, rows, *out, gbuf_out || s->norigami > 0 ? &gbuf : NULL);
+  render_frame(&f, o, rows, *out, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
   if (gbuf_out) *gbuf_out = gbuf;
   int ok = 1;
   if (s->norigami > 0) {
@@ -1156,6 +1168,7 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     ok = composite_origami(s, &f, *out, gbuf);
     stats_record("origami", stats_now() - t1);
   }
+  if (ok && canvas) ok = canvas_paint(s, &f, gbuf, out);
   if (!gbuf_out) gbuf_destroy(gbuf);
   /* lines (src/render/lines.h): strokes composited over the shaded image */
   if (!ok || !line_render_frame(&f, thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {

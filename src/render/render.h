@@ -104,6 +104,9 @@ typedef struct RenderStyle {
   float fill[3];               /* the flat colour of its regions in an SVG */
   float lit_color[3], unlit_color[3];   /* bokashi: the gradation's two ends */
   const struct ScreenTex *tex; /* its noise and pattern layer (screentex.h), or NULL */
+  float alpha;                 /* the alpha its samples get in the tile pass: 1, or 0 for
+                                  shade ink, which the canvas paints afterwards */
+  struct InkStyle *ink;        /* shade ink: its parameters (ink.h), else NULL */
 } RenderStyle;
 
 /* Where an object's centre (SceneObject.centre) lands: the noise, the
@@ -134,6 +137,7 @@ typedef struct RenderObject {
   RenderCentre centre;
   const struct ScreenTexObject *tex;   /* its noise and pattern mapping, or NULL */
   struct BokashiObject *bokashi;       /* its bokashi constants (shade_bokashi.c), or NULL */
+  float *vink;                 /* shade ink: per-vertex Gouraud grey (ink.h), else NULL */
 } RenderObject;
 
 typedef struct RenderFrame {

@@ -32,7 +32,7 @@ static const ShadeFn models[] = {
   /* SHADE_TOON */      shade_toon,
   /* SHADE_THRESHOLD */ shade_phong,
   /* SHADE_BOKASHI */   shade_bokashi,
-  /* SHADE_INK */       shade_phong,
+  /* SHADE_INK */       shade_ink,
   /* SHADE_ORIGAMI */   shade_phong,
 };
 
@@ -59,7 +59,7 @@ void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1
 
 int shade_reads_uv(ShadeKind kind) {
   /* the models in this file and shade_toon.c do not; textured ones will */
-  return kind == SHADE_THRESHOLD || kind == SHADE_INK || kind == SHADE_ORIGAMI;
+  return kind == SHADE_THRESHOLD || kind == SHADE_ORIGAMI;
 }
 
 void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
@@ -95,6 +95,8 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->unlit_color[0] = unlit.r * dim; rs->unlit_color[1] = unlit.g * dim; rs->unlit_color[2] = unlit.b * dim;
   /* an SVG region's flat colour: the base, or a bokashi's lit end */
   for (int c = 0; c < 3; c++) rs->fill[c] = rs->kind == SHADE_BOKASHI ? rs->lit_color[c] : rs->base[c];
+  rs->alpha = st->shade.kind == SHADE_INK ? 0.0f : 1.0f;   /* ink: painted on the canvas later */
+  rs->ink = NULL;                                          /* shade_ink_prepare */
 }
 
 void shade_centre_init(const RenderFrame *f, RenderObject *o) {

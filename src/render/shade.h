@@ -9,6 +9,8 @@
 **   shade_bokashi.c  bokashi: the ukiyo-e gradations around the object's
 **                 centre, sphere (bokashi 2) and linear (bokashi 1) (001
 **                 section 2.2.3)
+**   shade_ink.c   ink: the Gouraud grey per vertex and its quantisation
+**                 (003 ch. 5.2); the canvas paints it after the pass (ink.h)
 ** The tile pass shades a row of samples in two steps: it rebuilds each
 ** sample's surface from its triangle's corners into a ShadeRow, plane by
 ** plane (shade_row_rebuild per run of samples of one triangle, several
@@ -205,5 +207,7 @@ void shade_gouraud(const ShadeSample *s, float rgb[3]);
 void shade_phong(const ShadeSample *s, float rgb[3]);
 void shade_toon(const ShadeSample *s, float rgb[3]);
 void shade_bokashi(const ShadeSample *s, float rgb[3]);
+/* shade ink (shade_ink.c): nothing, transparent: the canvas paints it. */
+void shade_ink(const ShadeSample *s, float rgb[3]);
 
 #endif

@@ -1,0 +1,31 @@
+/*
+** The canvas: the post step that paints a frame on its paper, after the
+** tile pass (and the origami sheets), before the lines.
+**
+**   paper     the sheet, or the flat background (paper.h)
+**   ink       the pixels of shade ink objects (from the G-buffer, each
+**             pixel's samples): quantised Gouraud ink (shade_ink.c), then
+**             the diffusion and the box filter over the whole frame
+**             (ink_diffuse.c), each style up to its `stage`
+**   layer     the tile pass's image, transparent where nothing or ink was
+**             drawn, composited over the inked paper
+** Ink lies on the paper in display values, as the thesis's ink quantities
+** are (ink = 255 (1 - colour)): a pixel of density d = ink / 255 times the
+** paper's absorbency shows paper (1 - d) + ink colour d.
+*/
+#ifndef render_canvas_h
+#define render_canvas_h
+
+#include "gbuffer.h"
+#include "render.h"
+
+/* Does the frame need the canvas: a sheet, or an object in shade ink? */
+int canvas_wanted(const Scene *s, const RenderFrame *f);
+
+/* Paint the frame: *img is the tile pass's image (RGBA, background
+** transparent) with its G-buffer g; it is replaced by the painted image
+** (RGB when the paper is opaque, else RGBA). Returns 1, or 0 after a
+** diagnostic (a sheet image that cannot be read); *img is kept then. */
+int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img);
+
+#endif

@@ -1,0 +1,154 @@
+/*
+** Chinese ink interiors (Yeh, thesis 003, ch. 5.2), in three files:
+**   shade_ink.c    the high-contrast Gouraud image (a grey per vertex from
+**                  strong diffuse and specular terms and a weak ambient one,
+**                  with the style's own lights) and its quantisation to a
+**                  few tones: [0, 0.4) -> 0.4, [0.4, 0.6) -> 0.6,
+**                  [0.6, 0.9) -> 0.9, [0.9, 1] -> 1; ink = 255 (1 - tone)
+**   ink_diffuse.c  the ink canvas: ink and water per pixel; ink runs from a
+**                  darker level to a lighter one under the thesis's three
+**                  rules, a bounded number of passes; then the box filter
+**   canvas.c       runs them over the whole frame after the tile pass and
+**                  lays the ink on the paper (paper.h)
+** Ink objects draw nothing in the tile pass (their samples are left
+** transparent); the canvas paints them from the G-buffer, so the diffusion
+** sees the whole frame at once, whatever the tiles and threads.
+*/
+#ifndef render_ink_h
+#define render_ink_h
+
+#include <stdint.h>
+
+#include "render.h"
+
+/* A style's ink parameters, resolved for a frame. Levels are labels: 0 is
+** the paper level (the lightest tone, ink 0 when it is 1.0), 1 the light
+** level, ... ntones - 1 the darkest. */
+typedef struct InkStyle {
+  float ambient, diffuse, specular, shininess;
+  int ntones;                      /* ranges and tones: nlevels + 1 */
+  float levels[INK_MAX_TONES - 1]; /* thresholds, rising */
+  float tones[INK_MAX_TONES];      /* the tone of range i, rising */
+  float ink[INK_MAX_TONES];        /* ink of label k: 255 (1 - tones[ntones - 1 - k]) */
+  float ink_loss;                  /* of the difference a transfer loses, before roughness */
+  float water;                     /* each ink pixel's water at the start */
+  float paper_cost;                /* onto the paper level, a hop costs this of water and loss */
+  float ink_threshold, water_threshold, roughness;
+  int passes, box, stage;          /* stage: InkStage */
+  float color[3];                  /* the ink, display values */
+  int nlights;                     /* lights of the Gouraud image; 0 = all of the frame's */
+  int *lights;                     /* indices into RenderFrame.lights */
+} InkStyle;
+
+/* What each strength sets (ch. 6: small, medium and large diffusion). */
+typedef struct InkStrengthRow {
+  const char *name;
+  float ink_loss;                  /* per hop, of the ink difference */
+  float water;                     /* hops of water onto dry paper */
+  int passes;                      /* the bound on passes */
+} InkStrengthRow;
+extern const InkStrengthRow ink_strengths[3];   /* ORDER InkStrength */
+
+/* The water cost and loss onto the paper level relative to other hops:
+** the thesis's strong diffusion from the light level onto paper. */
+#define INK_PAPER_COST 0.5f
+
+/* ---- shade_ink.c -------------------------------------------------------- */
+
+/* Resolve the ink parameters of every shade ink style of f (RenderStyle.ink,
+** freed by shade_ink_free), with the lights the evaluator resolved.
+** Returns 0 after a diagnostic (a light index the frame lacks). */
+int shade_ink_prepare(RenderFrame *f);
+void shade_ink_free(RenderFrame *f);
+
+/* Resolve one style's numbers (no lights) into k. */
+void ink_style_init(InkStyle *k, const SceneShade *sh);
+
+/* The Gouraud grey of every vertex of o (o->vink), in [0, 1]: ambient +
+** sum over the style's lights of luminance (diffuse max(0, n.l) +
+** specular max(0, n.h)^shininess), with the normal turned toward the
+** viewer; read as a display grey, as the thesis's frame buffer was. */
+void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o);
+
+/* The range (0 darkest .. ntones - 1) grey value v falls in. */
+static inline int ink_range(const InkStyle *k, float v) {
+  int i = 0;
+  while (i < k->ntones - 1 && !(v < k->levels[i])) i++;   /* NaN falls to the lightest */
+  return i;
+}
+
+/* The quantised tone of v, and its level label. */
+static inline float ink_quantise(const InkStyle *k, float v) { return k->tones[ink_range(k, v)]; }
+static inline int ink_label(const InkStyle *k, float v) { return k->ntones - 1 - ink_range(k, v); }
+
+/* ---- ink_diffuse.c ---------------------------------------------------------- */
+
+#define INK_OFF 255         /* a level: not on the canvas (another object covers it) */
+#define INK_NO_STYLE 0xffff /* a style: bare paper */
+
+/* The ink canvas: per pixel, row-major. */
+typedef struct InkCanvas {
+  int width, height;
+  float *ink;               /* 0..255 */
+  float *water;
+  uint8_t *level;           /* label, or INK_OFF */
+  uint16_t *style;          /* index into styles (whose ink it holds), or INK_NO_STYLE */
+  const InkStyle *styles;
+  int nstyles;
+  /* the paper's absorbency (a tile that repeats; NULL: 1 everywhere) and
+  ** the seed of the resistance noise */
+  const float *absorb;
+  int absorb_w, absorb_h;
+  uint32_t seed;
+  float *noise;             /* the resistance noise where computed (-1: not yet); ink_diffuse's */
+  uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
+} InkCanvas;
+
+/* A pixel that takes ink can pass it on INK_DELAY x its resistance passes
+** later (at least 1, at most INK_MAX_DELAY): the water has to soak through
+** the paper first. Uneven delays make the fronts irregular. */
+#define INK_DELAY 2.0f
+#define INK_MAX_DELAY 6
+
+/* Allocate w x h planes: every pixel bare paper (level 0, no ink, no water). */
+void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
+void ink_canvas_free(InkCanvas *c);
+
+/* Give every ink pixel (a style) its style's water, bare paper none. */
+void ink_canvas_wet(InkCanvas *c);
+
+/* What ink_diffuse did. */
+typedef struct InkDiffuseStats { int passes; long long transfers; } InkDiffuseStats;
+
+/* Run up to max_passes passes of diffusion (max_passes < 0: the styles'
+** bound; never more than INK_MAX_PASSES). In a pass ink moves at most one
+** pixel: every pixel takes the best offer of its four neighbours, all from
+** the state before the pass (so the result does not depend on the order
+** pixels are visited). Neighbour q offers to p when q's water exceeds its
+** style's water threshold (rule 1), q's level is darker than p's (rule 2;
+** onto the paper level only from the light level), q's ink exceeds p's by
+** more than the ink threshold (rule 3), and q's water has soaked through
+** (INK_DELAY). p then takes q's level and style, and ink a little less than
+** q's: its own plus (1 - loss) of the difference; its water becomes the
+** greater of its own and q's less a hop's cost. A pixel never loses ink or
+** water; the giver keeps all of its. Loss, cost and delay scale with the
+** paper's resistance at p (roughness noise over absorbency); onto paper the
+** loss and the cost are INK_PAPER_COST of that. */
+void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st);
+
+/* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
+** rho (2 n - 1) over the absorbency, n a smooth seeded noise in [0, 1)
+** (cells of a few pixels): it scales a hop's loss and water cost. */
+float ink_resistance(const InkCanvas *c, int x, int y, float rho);
+/* The passes before a pixel that took ink can pass it on: INK_DELAY times
+** the same with the pixel's own noise (so growth from one point is
+** irregular and roundish, not a diamond of four-neighbour steps). */
+int ink_delay(const InkCanvas *c, int x, int y, float rho);
+
+/* A side x side box filter (side odd) of nplanes planes of w x h floats,
+** in place, averaged over the pixels where weight is nonzero (NULL: every
+** pixel; the image's edges clip the box either way); where no pixel of a
+** box has weight, the planes become 0. */
+void ink_box_filter(float **planes, int nplanes, const uint8_t *weight, int w, int h, int side);
+
+#endif

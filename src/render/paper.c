@@ -1,0 +1,252 @@
+/*
+** The sheet (paper.h): procedural xuan paper, an image sheet, or a flat
+** colour.
+**
+** Xuan paper is made of bark fibres in a pulp: the sheet is mottled where
+** the pulp lies thicker, has a fine tooth, and shows fibres, thin curved
+** strands a few pixels to a hundred long, some a little lighter than the
+** sheet and some darker. Fibres and thick pulp hold more water, so ink
+** lands darker on them (absorbency above 1) and washes show the grain.
+** Everything is built on a tile that wraps (lattices with whole periods,
+** fibres drawn modulo the tile), from the seeded generator.
+*/
+#include "paper.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+#include "../base/rng.h"
+#include "../io/image.h"
+#include "../lang/diag.h"
+#include "display.h"
+
+/* ---- tileable noise ------------------------------------------------------------ */
+
+static uint32_t mix32(uint32_t x) {
+  x ^= x >> 16; x *= 0x7feb352du;
+  x ^= x >> 15; x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+/* A lattice value in [0, 1) for cell (ix, iy) of a period-wide lattice. */
+static float lattice(int ix, int iy, int period, uint32_t seed) {
+  ix = ((ix % period) + period) % period;
+  iy = ((iy % period) + period) % period;
+  uint32_t h = mix32((uint32_t)ix * 0x8da6b343u ^ mix32((uint32_t)iy * 0xd8163841u ^ seed));
+  return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Add weight x value noise in [0, 1) to the t x t plane dst: a lattice of
+** period cells a side over the tile (so it wraps at the tile's edges),
+** bilinear with a smoothstep between lattice points. */
+static void add_noise(float *dst, int t, int period, uint32_t seed, float weight) {
+  float *lat = xmalloc((size_t)period * period * sizeof *lat);
+  int *cell = xmalloc((size_t)t * sizeof *cell);
+  float *frac = xmalloc((size_t)t * sizeof *frac);
+  for (int j = 0; j < period; j++)
+    for (int i = 0; i < period; i++) lat[j * period + i] = lattice(i, j, period, seed);
+  for (int x = 0; x < t; x++) {   /* the same cells and weights for rows and columns */
+    float c = ((float)x + 0.5f) * period / t;
+    cell[x] = (int)c;
+    float f = c - (float)cell[x];
+    frac[x] = f * f * (3 - 2 * f);
+  }
+  for (int y = 0; y < t; y++) {
+    const float *r0 = lat + (size_t)(cell[y] % period) * period, *r1 = lat + (size_t)((cell[y] + 1) % period) * period;
+    float fy = frac[y];
+    for (int x = 0; x < t; x++) {
+      int i0 = cell[x] % period, i1 = (cell[x] + 1) % period;
+      float top = r0[i0] + (r0[i1] - r0[i0]) * frac[x], bottom = r1[i0] + (r1[i1] - r1[i0]) * frac[x];
+      dst[(size_t)y * t + x] += weight * (top + (bottom - top) * fy);
+    }
+  }
+  free(lat);
+  free(cell);
+  free(frac);
+}
+
+/* ---- fibres ---------------------------------------------------------------------- */
+
+/* Fibres on a 384-pixel tile at density 1. */
+#define FIBRES_PER_TILE 520
+
+/* Coverage planes of the fibres: light and dark ones. */
+typedef struct Fibres { int t; float *light, *dark; } Fibres;
+
+/* Cover a disc of radius r around (px, py) with strength s, wrapping;
+** coverage keeps its largest value, so a fibre's own overlapping steps
+** and crossing fibres do not pile up. */
+static void fibre_dab(Fibres *fb, float *plane, float px, float py, float r, float s) {
+  int t = fb->t, x0 = (int)floorf(px - r - 1), x1 = (int)ceilf(px + r + 1);
+  int y0 = (int)floorf(py - r - 1), y1 = (int)ceilf(py + r + 1);
+  for (int y = y0; y <= y1; y++)
+    for (int x = x0; x <= x1; x++) {
+      float dx = (float)x + 0.5f - px, dy = (float)y + 0.5f - py;
+      float cover = r + 0.5f - sqrtf(dx * dx + dy * dy);   /* antialiased edge */
+      if (cover <= 0) continue;
+      cover = (cover < 1 ? cover : 1) * s;
+      float *q = &plane[(size_t)(((y % t) + t) % t) * t + (size_t)(((x % t) + t) % t)];
+      if (cover > *q) *q = cover;
+    }
+}
+
+/* One fibre: a strand that bends a little at each half-pixel step. */
+static void draw_fibre(Fibres *fb, Rng *r, float scale) {
+  float u = (float)rng_uniform(r);
+  float len = (10 + 80 * u * u * u) * scale;           /* many short, a few long */
+  float width = (0.35f + 0.8f * (float)rng_uniform(r)) * scale;
+  float strength = 0.35f + 0.65f * (float)rng_uniform(r);
+  float *plane = rng_uniform(r) < 0.6 ? fb->light : fb->dark;
+  float x = (float)(rng_uniform(r) * fb->t), y = (float)(rng_uniform(r) * fb->t);
+  float angle = (float)(rng_uniform(r) * 2 * M_PI);
+  float bend = (float)(rng_uniform(r) - 0.5) * 0.006f / scale;   /* gently curved */
+  for (float d = 0; d < len; d += 0.5f) {
+    fibre_dab(fb, plane, x, y, width / 2, strength);
+    angle += bend + (float)(rng_uniform(r) - 0.5) * 0.03f;
+    x += 0.5f * cosf(angle);
+    y += 0.5f * sinf(angle);
+  }
+}
+
+/* ---- sheets ---------------------------------------------------------------------- */
+
+static void paper_alloc(Paper *p, int w, int h) {
+  size_t n = (size_t)w * h;
+  p->width = w;
+  p->height = h;
+  p->display = xmalloc(n * 3 * sizeof *p->display);
+  p->linear = xmalloc(n * 3 * sizeof *p->linear);
+  p->absorb = xmalloc(n * sizeof *p->absorb);
+  p->alpha = 1;
+}
+
+/* Absorbency raw values a (mean m) to 1 + grain (a - m), kept positive. */
+static void normalise_absorb(Paper *p, double grain) {
+  size_t n = (size_t)p->width * p->height;
+  double sum = 0;
+  for (size_t i = 0; i < n; i++) sum += p->absorb[i];
+  float mean = (float)(sum / (double)n);
+  for (size_t i = 0; i < n; i++) {
+    float a = 1 + (float)grain * (p->absorb[i] - mean);
+    p->absorb[i] = a > 0.2f ? a : 0.2f;
+  }
+}
+
+static void fill_linear(Paper *p) {
+  size_t n = (size_t)p->width * p->height * 3;
+  for (size_t i = 0; i < n; i++) p->linear[i] = display_to_linear(p->display[i]);
+}
+
+/* Procedural xuan paper. */
+static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
+  int t = (int)lround(PAPER_TILE * sh->scale);
+  t = t < 32 ? 32 : t;
+  if ((long long)t * t > PAPER_MAX_TEXELS) {
+    snprintf(err, errlen, "a sheet of scale %g needs a %d x %d tile, more than %lld texels (PAPER_MAX_TEXELS)",
+             sh->scale, t, t, PAPER_MAX_TEXELS);
+    return 0;
+  }
+  paper_alloc(p, t, t);
+  size_t n = (size_t)t * t;
+  Fibres fb = {t, xcalloc(n, sizeof(float)), xcalloc(n, sizeof(float))};
+  int count = (int)lround(sh->fibres * FIBRES_PER_TILE * (double)t * t / ((double)PAPER_TILE * PAPER_TILE));
+  for (int i = 0; i < count; i++) {
+    Rng r;
+    rng_seed_key(&r, (uint64_t)sh->seed, 0x78756eu /* "xun" */, (uint32_t)i);
+    draw_fibre(&fb, &r, (float)sh->scale);
+  }
+  float tint[3] = {display_from_linear(sh->color.r), display_from_linear(sh->color.g),
+                   display_from_linear(sh->color.b)};
+  uint32_t seed = mix32((uint32_t)sh->seed * 0x9e3779b9u + 1);
+  float *pulp_plane = xcalloc(n, sizeof(float)), *tooth_plane = xcalloc(n, sizeof(float));
+  add_noise(pulp_plane, t, 6, seed, 0.65f);          /* thick and thin pulp */
+  add_noise(pulp_plane, t, 24, seed ^ 0x51u, 0.35f);
+  add_noise(tooth_plane, t, t / 2, seed ^ 0xa7u, 1);  /* the tooth: two-pixel cells */
+  for (int y = 0; y < t; y++)
+    for (int x = 0; x < t; x++) {
+      size_t i = (size_t)y * t + x;
+      float pulp = pulp_plane[i] - 0.5f, tooth = tooth_plane[i] - 0.5f;
+      float light = fb.light[i], dark = fb.dark[i];
+      float k = 1 + 0.035f * pulp + 0.02f * tooth + 0.045f * light - 0.05f * dark;
+      for (int c = 0; c < 3; c++) {
+        float v = tint[c] * k;
+        p->display[3 * i + c] = v < 1 ? (v > 0 ? v : 0) : 1;
+      }
+      p->absorb[i] = 0.6f * pulp + 0.3f * tooth + 0.5f * light + 0.4f * dark;
+    }
+  free(fb.light);
+  free(fb.dark);
+  free(pulp_plane);
+  free(tooth_plane);
+  normalise_absorb(p, sh->grain);
+  fill_linear(p);
+  return 1;
+}
+
+/* An image sheet: each texel is scale pixels; darker than the sheet's mean
+** absorbs more. */
+static int image_sheet(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
+  char path[4096], why[1024];
+  const char *file = diag_path_beside(sh->loc, sh->texture, path, sizeof path);
+  Image *img = NULL;
+  if (!image_read(file, &img, why, sizeof why)) {
+    snprintf(err, errlen, "cannot read the sheet image `%s`: %s", sh->texture, why);
+    return 0;
+  }
+  int w = (int)lround(img->width * sh->scale), h = (int)lround(img->height * sh->scale);
+  w = w < 1 ? 1 : w;
+  h = h < 1 ? 1 : h;
+  if ((long long)w * h > PAPER_MAX_TEXELS) {
+    snprintf(err, errlen, "the sheet image `%s` at scale %g is %d x %d pixels, more than %lld (PAPER_MAX_TEXELS)",
+             sh->texture, sh->scale, w, h, PAPER_MAX_TEXELS);
+    image_destroy(img);
+    return 0;
+  }
+  paper_alloc(p, w, h);
+  int nc = img->channels, colour = nc >= 3;
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {   /* nearest texel */
+      int sx = (int)((x + 0.5) / sh->scale), sy = (int)((y + 0.5) / sh->scale);
+      sx = sx < img->width ? sx : img->width - 1;
+      sy = sy < img->height ? sy : img->height - 1;
+      const float *q = img->data + ((size_t)sy * img->width + sx) * nc;
+      size_t i = (size_t)y * w + x;
+      float lum = 0;
+      for (int c = 0; c < 3; c++) {
+        float d = display_from_linear(q[colour ? c : 0]);
+        p->display[3 * i + c] = d;
+        lum += (c == 0 ? 0.2126f : c == 1 ? 0.7152f : 0.0722f) * d;
+      }
+      p->absorb[i] = -2 * lum;   /* darker: more absorbent */
+    }
+  image_destroy(img);
+  normalise_absorb(p, sh->grain);
+  fill_linear(p);
+  return 1;
+}
+
+int paper_create(const SceneSheet *sh, Color background, Paper *p, char *err, size_t errlen) {
+  memset(p, 0, sizeof *p);
+  if (sh && sh->texture) return strcmp(sh->texture, "xuan") ? image_sheet(sh, p, err, errlen) : xuan(sh, p, err, errlen);
+  p->width = p->height = 1;   /* the flat background */
+  p->display = xmalloc(3 * sizeof *p->display);
+  p->linear = xmalloc(3 * sizeof *p->linear);
+  float bg[3] = {background.r, background.g, background.b};
+  for (int c = 0; c < 3; c++) {
+    p->linear[c] = bg[c];
+    p->display[c] = display_from_linear(bg[c]);
+  }
+  p->alpha = background.a;
+  return 1;
+}
+
+void paper_free(Paper *p) {
+  free(p->display);
+  free(p->linear);
+  free(p->absorb);
+  memset(p, 0, sizeof *p);
+}

@@ -1,0 +1,142 @@
+/*
+** shade ink, its shading half (Yeh ch. 5.2; ink.h): the style's
+** parameters, the high-contrast Gouraud grey at each vertex, and the
+** quantisation the canvas applies to it per pixel. In the tile pass an ink
+** object's samples stay transparent (RenderStyle.alpha 0): the canvas
+** (canvas.c) paints them, with the diffusion and the box filter, once the
+** whole frame is known.
+*/
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+#include "../lang/diag.h"
+#include "../lang/value.h"
+#include "ink.h"
+#include "shade.h"
+
+/* ORDER InkStrength. How far ink runs: the loss sets how many hops a
+** difference of ink survives rule 3 inside a wash (more hops across a
+** larger difference, as ch. 5.2 says), the water how far the light level
+** runs onto dry paper; the passes bound both. */
+const InkStrengthRow ink_strengths[3] = {
+  {"small", 0.60f, 2, 16},
+  {"medium", 0.40f, 4, 32},
+  {"large", 0.25f, 8, 64},
+};
+
+/* A linear colour channel as a display value (sRGB), in [0, 1]. */
+static float display_of(float c) {
+  return (float)val_linear_to_srgb(c < 0 ? 0 : c > 1 ? 1 : c);
+}
+
+void ink_style_init(InkStyle *k, const SceneShade *sh) {
+  const ShadeInk *src = &sh->ink;
+  const InkStrengthRow *row = &ink_strengths[src->diffusion];
+  memset(k, 0, sizeof *k);
+  k->ambient = (float)sh->toon.ambient;
+  k->diffuse = (float)src->diffuse;
+  k->specular = (float)sh->toon.specular;
+  k->shininess = sh->toon.shininess > 0 ? (float)sh->toon.shininess : 1;
+  k->ntones = src->nlevels + 1;
+  for (int i = 0; i < src->nlevels; i++) k->levels[i] = (float)src->levels[i];
+  for (int i = 0; i < k->ntones; i++) {   /* by default each range becomes its upper end */
+    double tone = src->ntones ? src->tones[i] : i < src->nlevels ? src->levels[i] : 1.0;
+    k->tones[i] = (float)tone;
+    k->ink[k->ntones - 1 - i] = (float)(255.0 * (1.0 - tone));   /* in double: 255 (1 - 0.9) is 25.5 in float */
+  }
+  k->ink_loss = row->ink_loss;
+  k->water = row->water;
+  k->paper_cost = INK_PAPER_COST;
+  k->passes = src->passes > 0 ? src->passes : row->passes;
+  k->ink_threshold = (float)src->ink_threshold;
+  k->water_threshold = (float)src->water_threshold;
+  k->roughness = (float)src->roughness;
+  k->box = src->box_filter;
+  k->stage = src->stage;
+  k->color[0] = display_of(src->color.r);
+  k->color[1] = display_of(src->color.g);
+  k->color[2] = display_of(src->color.b);
+}
+
+int shade_ink_prepare(RenderFrame *f) {
+  int ok = 1;
+  for (int i = 0; i < f->nstyles; i++) {
+    RenderStyle *rs = &f->styles[i];
+    if (rs->kind != SHADE_INK) continue;
+    rs->ink = xcalloc(1, sizeof *rs->ink);
+    ink_style_init(rs->ink, &rs->src->shade);
+    const ShadeInk *src = &rs->src->shade.ink;
+    if (!src->nlights) continue;   /* all of the frame's lights */
+    rs->ink->lights = xmalloc((size_t)src->nlights * sizeof *rs->ink->lights);
+    rs->ink->nlights = src->nlights;
+    for (int j = 0; j < src->nlights; j++) {   /* the scene has lights: the frame's are those, in order */
+      int li = src->light_index ? src->light_index[j] : -1;
+      if (li < 0 || li >= f->nlights) {
+        diag_error(src->lights_loc, "`lights` in `shade ink`: no light is named `%s`", src->lights[j]);
+        ok = 0;
+        li = 0;
+      }
+      rs->ink->lights[j] = li;
+    }
+  }
+  return ok;
+}
+
+void shade_ink_free(RenderFrame *f) {
+  for (int i = 0; i < f->nstyles; i++) {
+    if (!f->styles[i].ink) continue;
+    free(f->styles[i].ink->lights);
+    free(f->styles[i].ink);
+    f->styles[i].ink = NULL;
+  }
+}
+
+static inline float dot3(const float a[3], const float b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The Gouraud grey at world point p with unit normal n (toward the viewer
+** v): the thesis's lighting with its weights, clamped as a frame buffer
+** clamps. */
+static float ink_grey(const RenderFrame *f, const InkStyle *k, const float p[3], const float n[3],
+                      const float v[3]) {
+  float g = k->ambient;
+  int nl = k->nlights ? k->nlights : f->nlights;
+  for (int j = 0; j < nl; j++) {
+    float l[3], col[3];
+    shade_light(f, k->nlights ? k->lights[j] : j, p, l, col);
+    float lum = 0.2126f * col[0] + 0.7152f * col[1] + 0.0722f * col[2];
+    float fs = k->specular > 0 ? k->specular * shade_specular(n, l, v, k->shininess) : 0;
+    g += lum * (k->diffuse * shade_diffuse(n, l) + fs);
+  }
+  return g > 0 ? (g < 1 ? g : 1) : 0;   /* NaN to 0 */
+}
+
+/* The grey at world point p with normal nrm turned toward the viewer. */
+static float grey_at(const RenderFrame *f, const InkStyle *k, const float p[3], const float nrm[3]) {
+  Vec3 vd = camera_view_dir(&f->camera, v3(p[0], p[1], p[2]));
+  float v[3] = {(float)vd.x, (float)vd.y, (float)vd.z};
+  float n[3] = {nrm[0], nrm[1], nrm[2]};
+  if (dot3(n, v) < 0) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+  return ink_grey(f, k, p, n, v);
+}
+
+void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o) {
+  const InkStyle *k = o->style->ink;
+  const Mesh *m = o->mesh;
+  if (o->wcnrm) {   /* hard edges: a grey per triangle corner, with that corner's normal */
+    o->vink = xmalloc((size_t)m->ntris * 3 * sizeof *o->vink + 1);
+    for (int t = 0; t < m->ntris; t++)
+      for (int c = 0; c < 3; c++) o->vink[3 * t + c] = grey_at(f, k, o->wpos[m->tri[t][c]], o->wcnrm[t][c]);
+    return;
+  }
+  o->vink = xmalloc((size_t)m->nverts * sizeof *o->vink + 1);
+  for (int i = 0; i < m->nverts; i++) o->vink[i] = grey_at(f, k, o->wpos[i], o->wnrm[i]);
+}
+
+void shade_ink(const ShadeSample *s, float rgb[3]) {
+  (void)s;
+  rgb[0] = rgb[1] = rgb[2] = 0;   /* premultiplied by its alpha 0 */
+}
