@@ -101,6 +101,7 @@ typedef struct InkCanvas {
   int absorb_w, absorb_h;
   uint32_t seed;
   float *noise;             /* the resistance noise where computed (-1: not yet); ink_diffuse's */
+  const struct NoiseFbm *fbm;   /* during ink_diffuse: that noise's lattice */
   uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
 } InkCanvas;
 
@@ -135,15 +136,6 @@ typedef struct InkDiffuseStats { int passes; long long transfers; } InkDiffuseSt
 ** paper's resistance at p (roughness noise over absorbency); onto paper the
 ** loss and the cost are INK_PAPER_COST of that. */
 void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st);
-
-/* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
-** rho (2 n - 1) over the absorbency, n a smooth seeded noise in [0, 1)
-** (cells of a few pixels): it scales a hop's loss and water cost. */
-float ink_resistance(const InkCanvas *c, int x, int y, float rho);
-/* The passes before a pixel that took ink can pass it on: INK_DELAY times
-** the same with the pixel's own noise (so growth from one point is
-** irregular and roundish, not a diamond of four-neighbour steps). */
-int ink_delay(const InkCanvas *c, int x, int y, float rho);
 
 /* A side x side box filter (side odd) of nplanes planes of w x h floats,
 ** in place, averaged over the pixels where weight is nonzero (NULL: every

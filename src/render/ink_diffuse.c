@@ -16,7 +16,9 @@
 #include <string.h>
 
 #include "../base/mem.h"
+#include "../base/rng.h"
 #include "ink.h"
+#include "noise.h"
 
 /* ---- the canvas ----------------------------------------------------------- */
 
@@ -54,40 +56,26 @@ void ink_canvas_wet(InkCanvas *c) {
 
 /* ---- the paper's resistance --------------------------------------------------- */
 
-/* A 32-bit integer hash (a xorshift-multiply mix). */
-static uint32_t mix32(uint32_t x) {
-  x ^= x >> 16; x *= 0x7feb352du;
-  x ^= x >> 15; x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-
-static float lattice(int ix, int iy, uint32_t seed) {
-  uint32_t h = mix32((uint32_t)ix * 0x8da6b343u ^ mix32((uint32_t)iy * 0xd8163841u ^ seed * 0xcb1ab31fu));
-  return (float)(h >> 8) * (1.0f / 16777216.0f);
-}
-
-/* Cells of the resistance noise's smooth part, in pixels. */
+/* The smooth part of the resistance: gradient noise of cells RESIST_CELL
+** pixels, repeating every RESIST_PERIOD cells (far beyond what a front
+** sees), in [0, 1]. */
 #define RESIST_CELL 6
+#define RESIST_PERIOD 64
 
-/* Smooth value noise in [0, 1): the lattice bilinearly interpolated with a
-** smoothstep. */
-static float resist_noise(int x, int y, uint32_t seed) {
-  int ix = x / RESIST_CELL, iy = y / RESIST_CELL;
-  float fx = (float)(x - ix * RESIST_CELL + 0.5f) / RESIST_CELL;
-  float fy = (float)(y - iy * RESIST_CELL + 0.5f) / RESIST_CELL;
-  fx = fx * fx * (3 - 2 * fx);
-  fy = fy * fy * (3 - 2 * fy);
-  float a = lattice(ix, iy, seed), b = lattice(ix + 1, iy, seed);
-  float d = lattice(ix, iy + 1, seed), e = lattice(ix + 1, iy + 1, seed);
-  return (a + (b - a) * fx) + ((d + (e - d) * fx) - (a + (b - a) * fx)) * fy;
+static float resist_noise(const InkCanvas *c, int x, int y) {
+  const float span = RESIST_CELL * RESIST_PERIOD;
+  float v = 0.5f + 0.5f * noise_fbm_eval(c->fbm, ((float)x + 0.5f) / span, ((float)y + 0.5f) / span);
+  return v < 0 ? 0 : v > 1 ? 1 : v;
 }
 
-float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
+/* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
+** rho (2 n - 1) over the absorbency, n the smooth noise (cached): it scales
+** a hop's loss and water cost. */
+static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
   size_t p = (size_t)y * c->width + x;
   float n = c->noise ? c->noise[p] : -1;
   if (n < 0) {   /* not yet computed: only pixels the diffusion reaches need it */
-    n = resist_noise(x, y, c->seed);
+    n = resist_noise(c, x, y);
     if (c->noise) c->noise[p] = n;
   }
   float r = 1 + rho * (2 * n - 1);
@@ -95,8 +83,13 @@ float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
   return r > 0.1f ? r : 0.1f;
 }
 
-int ink_delay(const InkCanvas *c, int x, int y, float rho) {
-  float r = 1 + rho * (2 * lattice(x, y, c->seed ^ 0x6a09e667u) - 1);   /* the pixel's own noise */
+/* The passes before a pixel that took ink can pass it on: INK_DELAY times
+** the same with the pixel's own random value (so growth from one point is
+** irregular and roundish, not a diamond of four-neighbour steps). */
+static int ink_delay(const InkCanvas *c, int x, int y, float rho) {
+  Rng g;   /* the pixel's own random value */
+  rng_seed_key(&g, c->seed, (uint32_t)x, (uint32_t)y);
+  float r = 1 + rho * (2 * (float)rng_uniform(&g) - 1);
   if (c->absorb) r /= c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
   int d = (int)ceilf(INK_DELAY * r);
   return d < 1 ? 1 : d > INK_MAX_DELAY ? INK_MAX_DELAY : d;
@@ -257,6 +250,9 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   InkDiffuseStats s = {0, 0};
   if (passes <= 0) { if (st) *st = s; return; }
   size_t n = (size_t)c->width * c->height;
+  NoiseFbm fbm;
+  noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
+  c->fbm = &fbm;
   if (!c->noise) {
     c->noise = xmalloc((n + 1) * sizeof *c->noise);
     for (size_t i = 0; i < n; i++) c->noise[i] = -1;
@@ -282,6 +278,8 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   free(seen);
   free(c->ready);
   c->ready = NULL;
+  noise_fbm_free(&fbm);
+  c->fbm = NULL;
   if (st) *st = s;
 }
 

@@ -8,7 +8,8 @@
 ** sheet and some darker. Fibres and thick pulp hold more water, so ink
 ** lands darker on them (absorbency above 1) and washes show the grain.
 ** Everything is built on a tile that wraps (lattices with whole periods,
-** fibres drawn modulo the tile), from the seeded generator.
+** fibres drawn modulo the tile), from the seeded generator and the noise
+** module's periodic gradient noise (noise.h).
 */
 #include "paper.h"
 
@@ -22,52 +23,7 @@
 #include "../io/image.h"
 #include "../lang/diag.h"
 #include "display.h"
-
-/* ---- tileable noise ------------------------------------------------------------ */
-
-static uint32_t mix32(uint32_t x) {
-  x ^= x >> 16; x *= 0x7feb352du;
-  x ^= x >> 15; x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-
-/* A lattice value in [0, 1) for cell (ix, iy) of a period-wide lattice. */
-static float lattice(int ix, int iy, int period, uint32_t seed) {
-  ix = ((ix % period) + period) % period;
-  iy = ((iy % period) + period) % period;
-  uint32_t h = mix32((uint32_t)ix * 0x8da6b343u ^ mix32((uint32_t)iy * 0xd8163841u ^ seed));
-  return (float)(h >> 8) * (1.0f / 16777216.0f);
-}
-
-/* Add weight x value noise in [0, 1) to the t x t plane dst: a lattice of
-** period cells a side over the tile (so it wraps at the tile's edges),
-** bilinear with a smoothstep between lattice points. */
-static void add_noise(float *dst, int t, int period, uint32_t seed, float weight) {
-  float *lat = xmalloc((size_t)period * period * sizeof *lat);
-  int *cell = xmalloc((size_t)t * sizeof *cell);
-  float *frac = xmalloc((size_t)t * sizeof *frac);
-  for (int j = 0; j < period; j++)
-    for (int i = 0; i < period; i++) lat[j * period + i] = lattice(i, j, period, seed);
-  for (int x = 0; x < t; x++) {   /* the same cells and weights for rows and columns */
-    float c = ((float)x + 0.5f) * period / t;
-    cell[x] = (int)c;
-    float f = c - (float)cell[x];
-    frac[x] = f * f * (3 - 2 * f);
-  }
-  for (int y = 0; y < t; y++) {
-    const float *r0 = lat + (size_t)(cell[y] % period) * period, *r1 = lat + (size_t)((cell[y] + 1) % period) * period;
-    float fy = frac[y];
-    for (int x = 0; x < t; x++) {
-      int i0 = cell[x] % period, i1 = (cell[x] + 1) % period;
-      float top = r0[i0] + (r0[i1] - r0[i0]) * frac[x], bottom = r1[i0] + (r1[i1] - r1[i0]) * frac[x];
-      dst[(size_t)y * t + x] += weight * (top + (bottom - top) * fy);
-    }
-  }
-  free(lat);
-  free(cell);
-  free(frac);
-}
+#include "noise.h"
 
 /* ---- fibres ---------------------------------------------------------------------- */
 
@@ -161,15 +117,16 @@ static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
   }
   float tint[3] = {display_from_linear(sh->color.r), display_from_linear(sh->color.g),
                    display_from_linear(sh->color.b)};
-  uint32_t seed = mix32((uint32_t)sh->seed * 0x9e3779b9u + 1);
-  float *pulp_plane = xcalloc(n, sizeof(float)), *tooth_plane = xcalloc(n, sizeof(float));
-  add_noise(pulp_plane, t, 6, seed, 0.65f);          /* thick and thin pulp */
-  add_noise(pulp_plane, t, 24, seed ^ 0x51u, 0.35f);
-  add_noise(tooth_plane, t, t / 2, seed ^ 0xa7u, 1);  /* the tooth: two-pixel cells */
+  NoiseFbm pulp_fbm, tooth_fbm;   /* thick and thin pulp over the tile; a tooth of two-pixel cells */
+  NoiseTile pulp_tile, tooth_tile;
+  noise_fbm_init(&pulp_fbm, 6, 3, 0.5f, (uint64_t)sh->seed * 2 + 1);
+  noise_fbm_init(&tooth_fbm, t / 2, 1, 0.5f, (uint64_t)sh->seed * 2 + 2);
+  noise_tile_bake(&pulp_tile, &pulp_fbm, t);
+  noise_tile_bake(&tooth_tile, &tooth_fbm, t);
   for (int y = 0; y < t; y++)
     for (int x = 0; x < t; x++) {
       size_t i = (size_t)y * t + x;
-      float pulp = pulp_plane[i] - 0.5f, tooth = tooth_plane[i] - 0.5f;
+      float pulp = pulp_tile.texel[0][i] - 0.5f, tooth = tooth_tile.texel[0][i] - 0.5f;
       float light = fb.light[i], dark = fb.dark[i];
       float k = 1 + 0.035f * pulp + 0.02f * tooth + 0.045f * light - 0.05f * dark;
       for (int c = 0; c < 3; c++) {
@@ -180,8 +137,10 @@ static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
     }
   free(fb.light);
   free(fb.dark);
-  free(pulp_plane);
-  free(tooth_plane);
+  noise_tile_free(&pulp_tile);
+  noise_tile_free(&tooth_tile);
+  noise_fbm_free(&pulp_fbm);
+  noise_fbm_free(&tooth_fbm);
   normalise_absorb(p, sh->grain);
   fill_linear(p);
   return 1;
