@@ -951,6 +951,9 @@ static const Schema schemas[] = {
 ** model, or the property of kind); a row goes when its stage lands. */
 static const struct { const char *kind, *word, *instead; } placeholders[] = {
   {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
+  /* not missing, but with nothing left to do (docs/styles.md, lines) */
+  {"lines", "search_width", "`search_width` has no effect: each edge is tested on its own line, so "
+                            "tracing has nothing beside it to search"},
 };
 
 /* Warn at `at` when kind (with word, or NULL) is a placeholder. */
