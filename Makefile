@@ -38,7 +38,7 @@ TOOLS    := $(BUILD)/imgcmp
 
 DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
                    libassimp-dev libxml2-dev libpotrace-dev librsvg2-bin clang libclang-rt-14-dev \
-                   assimp-testmodels
+                   assimp-testmodels python3-skimage
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp

@@ -30,6 +30,7 @@ void mesh_destroy(Mesh *m) {
   free(m->tri);
   free(m->tri_face);
   free(m->corner_nrm);
+  free(m->corner_uv);
   free(m->edges);
   free(m->tri_edges);
   free(m);
@@ -251,8 +252,9 @@ static int weld_lookup(const WeldGrid *g, const Vec3 *pos, Vec3 p, double eps2, 
 /* Drops the vertices remap sends elsewhere (kept ones keep their order and
 ** attributes) and the triangles that lose a corner. With fill, corner_nrm
 ** (allocated for every triangle) gets each kept corner's own normal from
-** before the weld. Triangles go first, while nrm is still as it was. */
-static void weld_compact(Mesh *m, const int *remap, int nkept, int fill) {
+** before the weld, and with fill_uv corner_uv its own uv. Triangles go
+** first, while nrm and uv are still as they were. */
+static void weld_compact(Mesh *m, const int *remap, int nkept, int fill, int fill_uv) {
   int nt = 0;
   for (int t = 0; t < m->ntris; t++) {
     int o0 = m->tri[t][0], o1 = m->tri[t][1], o2 = m->tri[t][2];
@@ -265,6 +267,14 @@ static void weld_compact(Mesh *m, const int *remap, int nkept, int fill) {
       cn[2] = m->nrm[o2];
     } else if (m->corner_nrm && nt != t)   /* nt < t: apart, so a copy (inlined) will do */
       memcpy(m->corner_nrm[nt], m->corner_nrm[t], sizeof m->corner_nrm[t]);
+    if (fill_uv) {
+      Vec2 *cu = m->corner_uv[nt];
+      cu[0] = m->uv[o0];
+      cu[1] = m->uv[o1];
+      cu[2] = m->uv[o2];
+    } else if (m->corner_uv && nt != t) {
+      memcpy(m->corner_uv[nt], m->corner_uv[t], sizeof m->corner_uv[t]);
+    }
     m->tri[nt][0] = a; m->tri[nt][1] = b; m->tri[nt][2] = d;
     m->tri_face[nt] = m->tri_face[t];
     nt++;
@@ -320,7 +330,7 @@ void mesh_weld_marked(Mesh *m, double eps, const unsigned char *mark) {
   if (m->nverts == 0) return;
   int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
   int nkept = weld_find(m, eps, mark, remap, NULL);
-  weld_compact(m, remap, nkept, 0);
+  weld_compact(m, remap, nkept, 0, 0);
   corners_prune(m);
   free(remap);
   if (m->edges) mesh_build_edges(m);
@@ -339,25 +349,29 @@ void mesh_weld_creased(Mesh *m, double eps, const unsigned char *mark) {
   int *remap = xmalloc((size_t)m->nverts * sizeof *remap);
   int *rep = xmalloc((size_t)m->nverts * sizeof *rep);
   int nkept = weld_find(m, eps, mark, remap, rep);
-  unsigned char *differs = xmalloc((size_t)m->nverts);
+  unsigned char *differs = xmalloc((size_t)m->nverts);   /* bit 0: normal, bit 1: uv */
   int any = 0;
   for (int v = 0; v < m->nverts; v++) {
-    differs[v] = v3_dot(m->nrm[v], m->nrm[rep[v]]) < 1 - 1e-6;
+    int r = rep[v];
+    differs[v] = (unsigned char)((v3_dot(m->nrm[v], m->nrm[r]) < 1 - 1e-6) |
+                                 (m->uv && (m->uv[v].x != m->uv[r].x || m->uv[v].y != m->uv[r].y)) << 1);
     any |= differs[v];
   }
   /* only corners of triangles the weld keeps count */
   int need = 0;
-  for (int t = 0; any && !need && t < m->ntris; t++) {
+  for (int t = 0; any && need != 3 && t < m->ntris; t++) {
     const int *c = m->tri[t];
     int a = remap[c[0]], b = remap[c[1]], d = remap[c[2]];
     if (a == b || b == d || d == a) continue;
-    need = differs[c[0]] || differs[c[1]] || differs[c[2]];
+    need |= differs[c[0]] | differs[c[1]] | differs[c[2]];
   }
-  if (need) {   /* filled whole */
+  if (need & 1) {   /* filled whole */
     m->corner_nrm = xmalloc((size_t)m->ntris * sizeof *m->corner_nrm);
     mem_populate(m->corner_nrm, (size_t)m->ntris * sizeof *m->corner_nrm);
   }
-  weld_compact(m, remap, nkept, need);
+  free(m->corner_uv);
+  m->corner_uv = need & 2 ? xmalloc((size_t)m->ntris * sizeof *m->corner_uv) : NULL;
+  weld_compact(m, remap, nkept, need & 1, need >> 1);
   free(differs);
   free(rep);
   free(remap);

@@ -32,6 +32,11 @@ typedef struct Mesh {
   ** triangle t shades with corner_nrm[t][k] instead of nrm[tri[t][k]].
   ** NULL when every corner may use its vertex normal. Unit, never NaN. */
   Vec3 (*corner_nrm)[3];
+  /* Per-corner texture coordinates where a welded vertex joins faces whose
+  ** parameters differ there (the shared border of two patches, a UV seam):
+  ** corner k of triangle t reads corner_uv[t][k] instead of uv[tri[t][k]].
+  ** NULL when every corner may use its vertex's uv. */
+  Vec2 (*corner_uv)[3];
   /* topology, filled by mesh_build_edges() */
   int nedges;
   MeshEdge *edges;
@@ -44,6 +49,10 @@ void mesh_destroy(Mesh *m);
 void mesh_build_edges(Mesh *m);
 /* Area-weighted vertex normals from the triangles (for meshes without any). */
 void mesh_compute_normals(Mesh *m);
+/* The texture coordinates of corner k of triangle t (m->uv not NULL). */
+static inline Vec2 mesh_corner_uv(const Mesh *m, int t, int k) {
+  return m->corner_uv ? m->corner_uv[t][k] : m->uv[m->tri[t][k]];
+}
 /* The normal corner k of triangle t shades with: corner_nrm when there is
 ** one, else the vertex normal. */
 static inline Vec3 mesh_corner_normal(const Mesh *m, int t, int k) {

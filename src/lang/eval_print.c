@@ -129,6 +129,37 @@ static void print_ink(const char *pre, const ShadeInk *k, FILE *out) {
   fputc('\n', out);
 }
 
+/* shade threshold's own fields, then one block of lines a layer. */
+static void print_threshold(const char *pre, const ShadeThreshold *th, FILE *out) {
+  static const char *proj[] = {"auto", "uv", "planar", "box", "cylindrical", "spherical"};
+  static const char *kinds[] = {"hatch", "stipple", "image"}, *terms[] = {"both", "diffuse", "specular"};
+  fprintf(out, "%sprojection %s\n", pre, proj[th->projection]);
+  line_num(out, pre, "scale", th->scale);
+  fprintf(out, "%sfilter %s\n", pre, th->filter ? "true" : "false");
+  line_num(out, pre, "strength", th->strength);
+  if (th->nfacing) print_list(out, pre, "facing", th->facing, th->nfacing);
+  if (th->nlight) print_list(out, pre, "light", th->light, th->nlight);
+  for (int i = 0; i < th->nlayers; i++) {
+    const ThresholdLayer *l = &th->layers[i];
+    char lp[96];
+    fprintf(out, "%slayer[%d] %s\n", pre, i, kinds[l->kind]);
+    snprintf(lp, sizeof lp, "%slayer[%d].", pre, i);
+    fprintf(out, "%sterm %s\n", lp, terms[l->term]);
+    fprintf(out, "%srange ", lp); put_num(out, l->range[0]); fputc(' ', out); put_num(out, l->range[1]); fputc('\n', out);
+    line_num(out, lp, "angle", l->angle);
+    if (l->kind == LAYER_IMAGE) {
+      fprintf(out, "%sfile \"%s\"\n", lp, l->file);
+      line_num(out, lp, "window", l->window);
+      line_num(out, lp, "clip", l->clip);
+      line_num(out, lp, "scale", l->scale);
+    } else {
+      line_num(out, lp, "spacing", l->spacing);
+    }
+    line_num(out, lp, "noise", l->noise);
+    line_num(out, lp, "noise_scale", l->noise_scale);
+  }
+}
+
 static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   static const char *names[] = {"none", "flat", "gouraud", "phong", "toon", "threshold", "bokashi", "ink", "origami"};
   fprintf(out, "%skind %s%s%s\n", pre, names[s->kind], s->subkind ? " " : "", s->subkind ? s->subkind : "");
@@ -150,7 +181,7 @@ static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   line_num(out, pre, "shininess", t->shininess);
   if (s->kind == SHADE_FLAT) fprintf(out, "%slit %s\n", pre, s->lit ? "true" : "false");
   if (s->kind == SHADE_INK) print_ink(pre, &s->ink, out);
-  if (s->kind != SHADE_TOON) return;
+  if (s->kind != SHADE_TOON && s->kind != SHADE_THRESHOLD) return;
   fprintf(out, "%sbands %d\n", pre, t->bands);
   line_num(out, pre, "threshold", t->threshold);
   print_ramp(out, pre, "ramp", t->ramp, t->nramp);
@@ -159,6 +190,7 @@ static void print_shade(const char *pre, const SceneShade *s, FILE *out) {
   line_num(out, pre, "specular_threshold", t->specular_threshold);
   line_num(out, pre, "edge", t->edge);
   if (t->edge > 0) line_color(out, pre, "edge_color", t->edge_color);
+  if (s->kind == SHADE_THRESHOLD) print_threshold(pre, &s->threshold, out);
 }
 
 static void print_lines(const char *pre, const SceneLines *l, FILE *out) {

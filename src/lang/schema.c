@@ -740,6 +740,62 @@ static int cv_image(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* range [lo, hi]; — a layer's tone range, 0 <= lo < hi <= 1. */
+static int cv_range(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ThresholdLayer *l = t;
+  const Value *v = &p->v[0];
+  if (v->kind != V_LIST || v->u.l->n != 2 || v->u.l->v[0].kind != V_NUM || v->u.l->v[1].kind != V_NUM)
+    return expect(c, p, 0, "a tone range [low, high]");
+  double lo = v->u.l->v[0].u.n, hi = v->u.l->v[1].u.n;
+  if (!(lo >= 0 && lo < hi && hi <= 1)) {
+    ev_error(c->ev, p->vloc[0], "`range` in `%s` needs 0 <= low < high <= 1", c->what);
+    return -1;
+  }
+  l->range[0] = lo;
+  l->range[1] = hi;
+  return 0;
+}
+
+/* A strength curve: values from 0 to 1 spread evenly over [0, 1]; the
+** pointer's count follows it in the target (as T_COLORS). */
+static int cv_curve(Ctx *c, const Prop *p, const Row *r, void *t) {
+  double **curve = (double **)((char *)t + r->off);
+  int *n = (int *)((char *)curve + sizeof(double *));
+  const Value *v = &p->v[0];
+  int k = v->kind == V_NUM ? 1 : v->kind == V_LIST ? v->u.l->n : 0;
+  if (k < 1 || k > SCHEMA_MAX_CURVE)
+    return expect(c, p, 0, "a number or a list of 1 to 64 numbers from 0 to 1");
+  *curve = arena_alloc(&c->ev->scene->arena, (size_t)k * sizeof **curve);
+  for (int i = 0; i < k; i++) {
+    const Value *x = v->kind == V_NUM ? v : &v->u.l->v[i];
+    if (x->kind != V_NUM || !(x->u.n >= 0 && x->u.n <= 1)) {
+      ev_error(c->ev, p->vloc[0], "`%s` in `%s` needs numbers from 0 to 1 (entry %d is not)", p->name,
+               c->what, i);
+      return -1;
+    }
+    (*curve)[i] = x->u.n;
+  }
+  *n = k;
+  return 0;
+}
+
+/* file "paper.png"; — a threshold image, read relative to the folder of
+** the scene file that names it (as mesh("file") is; R_FILE has checked it
+** can be read). Whether it decodes is found when the frame is prepared. */
+static int cv_image_file(Ctx *c, const Prop *p, const Row *r, void *t) {
+  ThresholdLayer *l = t;
+  if (p->v[0].kind != V_STR || p->v[0].u.s->len == 0) return expect(c, p, 0, "an image file name (a string)");
+  const char *name = p->v[0].u.s->s;
+  const SrcFile *f = p->loc.file >= 0 ? diag_file(p->loc.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  char full[4096];
+  if (name[0] == '/' || !slash) snprintf(full, sizeof full, "%s", name);
+  else snprintf(full, sizeof full, "%.*s/%s", (int)(slash - f->name), f->name, name);
+  l->file = scene_str(c, full);
+  l->file_loc = p->vloc[0];
+  return 0;
+}
+
 /* ---- tables ------------------------------------------------------------- */
 
 static const Row output_rows[] = {
@@ -791,16 +847,20 @@ static const Row shade_flat_rows[] = {
   BOOL("lit", SceneShade, lit),
 };
 
+/* Toon's bands, ramps and edge, shared with threshold (after `bands`). */
+#define TOON_ROWS \
+  NUM("threshold", SceneShade, toon.threshold, 0, 1, 0.5), \
+  TYPED("ramp", T_COLORS, SceneShade, toon.ramp), \
+  TYPED("specular_ramp", T_COLORS, SceneShade, toon.specular_ramp), \
+  INT("specular_bands", SceneShade, toon.specular_bands, 2, 256, 2), \
+  NUM("specular_threshold", SceneShade, toon.specular_threshold, 0, 1, 0.5), \
+  NUM("edge", SceneShade, toon.edge, 0, 1, 0), \
+  TYPED("edge_color", T_COLOR, SceneShade, toon.edge_color)
+
 static const Row shade_toon_rows[] = {
   LIGHTING_ROWS,
   INT("bands", SceneShade, toon.bands, 2, 256, 3),
-  NUM("threshold", SceneShade, toon.threshold, 0, 1, 0.5),
-  TYPED("ramp", T_COLORS, SceneShade, toon.ramp),
-  TYPED("specular_ramp", T_COLORS, SceneShade, toon.specular_ramp),
-  INT("specular_bands", SceneShade, toon.specular_bands, 2, 256, 2),
-  NUM("specular_threshold", SceneShade, toon.specular_threshold, 0, 1, 0.5),
-  NUM("edge", SceneShade, toon.edge, 0, 1, 0),
-  TYPED("edge_color", T_COLOR, SceneShade, toon.edge_color),
+  TOON_ROWS,
 };
 
 static const Row shade_origami_rows[] = {
@@ -811,13 +871,50 @@ static const Row shade_origami_rows[] = {
   TYPED("texture", T_STRING, SceneShade, origami_texture),
 };
 
-/* Passes whose parameters live in SceneStyle.params (scene_style_param). */
+/* shade threshold: toon's rows (two tones by default: hatching's ink and
+** paper), the texture space, filtering and strength; its layers are the
+** hatch, stipple and image blocks inside it. */
+#define CURVE(n, f) {n, T_CUSTOM, 0, 0, NAN, offsetof(SceneShade, f), 0, NULL, cv_curve}
+
 static const Row shade_threshold_rows[] = {
   LIGHTING_ROWS,
-  PARAM("texture", R_SYM | R_REPEAT | R_FILE), PARAM("strength", 0), PARAM("window", 0), PARAM("clip_limit", 0),
-  PARAM("spacing", 0), PARAM("filter_samples", 0), PARAM("noise", 0),
+  INT("bands", SceneShade, toon.bands, 2, 256, 2),
+  TOON_ROWS,
+  SYM("projection", SceneShade, threshold.projection, "auto|uv|planar|box|cylindrical|spherical"),
+  NUM("scale", SceneShade, threshold.scale, 1e-9, INFINITY, 1),
+  {"filter", T_BOOL, 0, 0, 1, offsetof(SceneShade, threshold.filter), 0, NULL, NULL},
+  NUM("strength", SceneShade, threshold.strength, 0, 1, 1),
+  CURVE("facing", threshold.facing),
+  CURVE("light", threshold.light),
 };
 
+/* Rows every threshold layer has. */
+#define LAYER_ROWS(angle0) \
+  SYM("term", ThresholdLayer, term, "both|diffuse|specular"), \
+  CUSTOM("range", cv_range, 0), \
+  NUM("angle", ThresholdLayer, angle, -360, 360, angle0), \
+  NUM("noise", ThresholdLayer, noise, 0, 16, 0), \
+  NUM("noise_scale", ThresholdLayer, noise_scale, 1e-6, INFINITY, 0.1)
+
+static const Row hatch_rows[] = {
+  LAYER_ROWS(45),
+  NUM("spacing", ThresholdLayer, spacing, 0.5, 4096, 6),
+};
+
+static const Row stipple_rows[] = {
+  LAYER_ROWS(45),
+  NUM("spacing", ThresholdLayer, spacing, 0.5, 4096, 5),
+};
+
+static const Row image_rows[] = {
+  LAYER_ROWS(0),
+  CUSTOM("file", cv_image_file, R_REQUIRED | R_FILE),
+  NUM("window", ThresholdLayer, window, 2, 4096, 16),
+  NUM("clip", ThresholdLayer, clip, 0, 1000, 4),
+  NUM("scale", ThresholdLayer, scale, 1e-9, INFINITY, 1),
+};
+
+/* Passes whose parameters live in SceneStyle.params (scene_style_param). */
 static const Row shade_bokashi_rows[] = {
   CUSTOM("lit", cv_bokashi_color, 0),
   CUSTOM("unlit", cv_bokashi_color, 0),
@@ -930,7 +1027,7 @@ static const Schema schemas[] = {
   {"shade", "gouraud", ROWS(shade_basic_rows), "", W_KIND, 0},
   {"shade", "phong", ROWS(shade_basic_rows), "", W_KIND, 0},
   {"shade", "toon", ROWS(shade_toon_rows), "", W_KIND, 0},
-  {"shade", "threshold", ROWS(shade_threshold_rows), "", W_KIND, 0},
+  {"shade", "threshold", ROWS(shade_threshold_rows), "hatch|stipple|image", W_KIND, 0},
   {"shade", "bokashi", ROWS(shade_bokashi_rows), "", W_KIND, 0},
   {"shade", "ink", ROWS(shade_ink_rows), "", W_KIND, 0},
   {"shade", "origami", ROWS(shade_origami_rows), "", W_KIND, 0},
@@ -941,6 +1038,10 @@ static const Schema schemas[] = {
   {"origami", NULL, ROWS(origami_rows), "paper", W_NAME, 1},
   {"paper", NULL, ROWS(paper_rows), "", W_NONE, 0},
   {"sheet", NULL, ROWS(sheet_rows), "", W_NONE, 0},
+  /* threshold layers, inside `shade threshold` (ORDER ThresholdLayerKind) */
+  {"hatch", NULL, ROWS(hatch_rows), "", W_NONE, 0},
+  {"stipple", NULL, ROWS(stipple_rows), "", W_NONE, 0},
+  {"image", NULL, ROWS(image_rows), "", W_NONE, 0},
 };
 #define NSCHEMAS ((int)(sizeof schemas / sizeof schemas[0]))
 
@@ -950,7 +1051,6 @@ static const Schema schemas[] = {
 ** what is drawn instead. One row per pass or property (word: the shading
 ** model, or the property of kind); a row goes when its stage lands. */
 static const struct { const char *kind, *word, *instead; } placeholders[] = {
-  {"shade", "threshold", "`shade threshold` is not drawn yet: the object is shaded as `shade phong`"},
   /* not missing, but with nothing left to do (docs/styles.md, lines) */
   {"lines", "search_width", "`search_width` has no effect: each edge is tested on its own line, so "
                             "tracing has nothing beside it to search"},
@@ -1018,7 +1118,8 @@ static void apply_defaults(const Schema *s, void *target) {
     const Row *r = &s->rows[i];
     if (isnan(r->def) || r->off == NOFIELD) continue;
     if (r->type == T_NUM) *(double *)((char *)target + r->off) = r->def;
-    if (r->type == T_INT || r->type == T_SYMBOL) *(int *)((char *)target + r->off) = (int)r->def;
+    if (r->type == T_INT || r->type == T_SYMBOL || r->type == T_BOOL)
+      *(int *)((char *)target + r->off) = (int)r->def;
   }
 }
 
@@ -1142,6 +1243,50 @@ static const Schema *shade_schema(Ctx *c, const BlockVal *b) {
 
 /* ---- emitters --------------------------------------------------------- */
 
+static int no_subs(Ctx *c, const BlockVal *b) {
+  char where[80];
+  snprintf(where, sizeof where, " inside `%s`", b->kind);
+  for (int i = 0; i < b->nsubs; i++) unknown_kind(c, b->subs[i], "", where);
+  return b->nsubs ? -1 : 0;
+}
+
+/* Whether word is one of the names in list ("a|b|c"). */
+static int in_list(const char *list, const char *word) {
+  size_t n = strlen(word);
+  for (const char *p = list; *p; p += strcspn(p, "|"), p += *p == '|')
+    if (strncmp(p, word, n) == 0 && (p[n] == '|' || p[n] == 0)) return 1;
+  return 0;
+}
+
+/* A layer block inside a shade block (hatch, stipple, image: the kinds its
+** schema's subs allow), appended to the pass's layers. */
+static int fill_layer(Ctx *c, const Schema *s, SceneShade *sh, const BlockVal *sub) {
+  char where[80];
+  snprintf(where, sizeof where, " inside `%s`", c->what);
+  const Schema *ls = find_schema(sub->kind, NULL);
+  if (!ls || !*s->subs || !in_list(s->subs, sub->kind)) {
+    unknown_kind(c, sub, s->subs, where);
+    return -1;
+  }
+  Ctx lc = *c;
+  snprintf(lc.what, sizeof lc.what, "%s", sub->kind);
+  if (check_words(&lc, ls, sub)) return -1;
+  ShadeThreshold *th = &sh->threshold;
+  if (th->nlayers == SCENE_MAX_LAYERS) {
+    ev_error(c->ev, sub->loc, "`%s` has at most %d layers (SCENE_MAX_LAYERS)", c->what, SCENE_MAX_LAYERS);
+    return -1;
+  }
+  th->layers = grow(c, th->layers, th->nlayers, sizeof *th->layers);
+  ThresholdLayer *l = &th->layers[th->nlayers++];
+  memset(l, 0, sizeof *l);
+  l->kind = (ThresholdLayerKind)(ls - find_schema("hatch", NULL));
+  l->range[1] = 1;
+  l->loc = sub->loc;
+  l->file_loc = src_none();
+  apply_defaults(ls, l);
+  return check_props(&lc, ls, sub, l) || no_subs(&lc, sub) ? -1 : 0;
+}
+
 static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   const Schema *s = shade_schema(c, b);
   if (!s) return -1;
@@ -1171,7 +1316,12 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   apply_defaults(s, sh);
   snprintf(c->what, sizeof c->what, "shade %s", b->words[0]);
   c->pass = "shade";
-  if (check_props(c, s, b, sh)) return -1;
+  sh->threshold.projection_loc = src_none();
+  int bad = check_props(c, s, b, sh) != 0;
+  for (int i = 0; i < b->nprops; i++)   /* where `projection` is, for the renderer's check */
+    if (strcmp(b->props[i].name, "projection") == 0) sh->threshold.projection_loc = b->props[i].loc;
+  for (int i = 0; i < b->nsubs; i++) bad |= fill_layer(c, s, sh, b->subs[i]) != 0;
+  if (bad) return -1;
   return sh->kind == SHADE_INK ? check_ink(c, &sh->ink) : 0;
 }
 
@@ -1228,12 +1378,6 @@ static int emit_style(Ctx *c, const BlockVal *b) {
   return sc->nstyles++;
 }
 
-static int no_subs(Ctx *c, const BlockVal *b) {
-  char where[80];
-  snprintf(where, sizeof where, " inside `%s`", b->kind);
-  for (int i = 0; i < b->nsubs; i++) unknown_kind(c, b->subs[i], "", where);
-  return b->nsubs ? -1 : 0;
-}
 
 static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
   Scene *sc = c->ev->scene;

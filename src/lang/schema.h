@@ -17,6 +17,9 @@
 /* Most samples a pixel side `samples N` may ask for. */
 #define SCHEMA_MAX_SAMPLES 16
 
+/* Most points a strength curve (`facing`, `light` in shade threshold) may have. */
+#define SCHEMA_MAX_CURVE 64
+
 int schema_emit(Eval *ev, BlockVal *b);
 /* The checks that need the whole scene, once every block is in: the
 ** lights a shade ink style names (a light may come after the style). */

@@ -177,12 +177,16 @@ static void prepare_lights(const Scene *s, RenderFrame *f) {
   }
 }
 
-static void prepare_styles(const Scene *s, RenderFrame *f) {
+/* The styles' shading constants; 0 after a diagnostic (an image a style
+** reads that cannot be). */
+static int prepare_styles(const Scene *s, RenderFrame *f) {
   f->default_style = scene_default_style();
   f->nstyles = s->nstyles + 1;
   f->styles = xcalloc((size_t)f->nstyles, sizeof *f->styles);
-  for (int i = 0; i < s->nstyles; i++) shade_style_init(&f->styles[i], &s->styles[i]);
-  shade_style_init(&f->styles[s->nstyles], &f->default_style);
+  int ok = 1;
+  for (int i = 0; i < s->nstyles; i++) ok &= shade_style_init(&f->styles[i], &s->styles[i]);
+  ok &= shade_style_init(&f->styles[s->nstyles], &f->default_style);
+  return ok;
 }
 
 /* ---- prepare: objects ------------------------------------------------------ */
@@ -220,6 +224,11 @@ static void object_to_world(RenderObject *o) {
         memcpy(c, o->wcnrm[t][1], sizeof c);
         memcpy(o->wcnrm[t][1], o->wcnrm[t][2], sizeof c);
         memcpy(o->wcnrm[t][2], c, sizeof c);
+      }
+      if (m->corner_uv) {
+        Vec2 uv = m->corner_uv[t][1];
+        m->corner_uv[t][1] = m->corner_uv[t][2];
+        m->corner_uv[t][2] = uv;
       }
     }
     mesh_build_edges(m);
@@ -417,17 +426,20 @@ static void refit_camera(const Scene *s, RenderFrame *f) {
   camera_fit_apply(&f->camera, &fit);
 }
 
-/* What depends on where the camera is: facing and gouraud colours. */
-static void prepare_view(RenderFrame *f) {
+/* What depends on where the camera is: facing, and what the shading
+** models keep per vertex or triangle (shade_prepare_object). Returns 0
+** after a diagnostic. */
+static int prepare_view(RenderFrame *f) {
+  int ok = 1;
   for (int i = 0; i < f->nobjects; i++) {
     RenderObject *o = &f->objects[i];
     object_facing(o, &f->camera);
     o->cull_back = can_cull_back(o, &f->camera);
     shade_centre_init(f, o);
-    if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
-    if (o->style->kind == SHADE_BOKASHI) shade_bokashi_prepare(f, o);
+    ok &= shade_prepare_object(f, o);
     if (o->style->ink) shade_ink_vertex_values(f, o);
   }
+  return ok;
 }
 
 int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
@@ -449,8 +461,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
     diag_error(s->camera.loc, "%s", why);
     return 0;
   }
-  prepare_styles(s, f);
-  if (!check_triangles(s)) return 0;
+  if (!prepare_styles(s, f) || !check_triangles(s)) return 0;
   double t1 = stats_now();
   int refit = !s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE;
   int ok = prepare_objects(s, f, thread_count(o), refit);
@@ -464,7 +475,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   }
   prepare_lights(s, f);
   ok &= shade_ink_prepare(f);
-  prepare_view(f);
+  ok &= prepare_view(f);
   ok = ok && screentex_prepare(f);
   stats_record("prepare", t1 - t0 + stats_now() - t2 - retess);
   stats_record("tessellate", t2 - t1 + retess);
@@ -483,11 +494,13 @@ void render_frame_free(RenderFrame *f) {
     free(o->vcolor);
     shade_bokashi_free(o);
     free(o->vink);
+    free(o->texcoords);
   }
   screentex_free(f);
   shade_ink_free(f);
   free(f->objects);
   free(f->lights);
+  for (int i = 0; i < f->nstyles; i++) shade_style_free(&f->styles[i]);
   free(f->styles);
   memset(f, 0, sizeof *f);
 }

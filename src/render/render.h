@@ -84,6 +84,11 @@ typedef struct RenderLight {
   int inverse_square;  /* point light falls off as 1 / d^2 */
 } RenderLight;
 
+/* shade threshold's layers, resolved once a frame (shade_threshold.c), and
+** a triangle's texture coordinates (texcoord.h). */
+typedef struct ThresholdStyle ThresholdStyle;
+typedef struct TexTriangle TexTriangle;
+
 /* Per-style shading constants, resolved once a frame (floats, linear). */
 typedef struct RenderStyle {
   const SceneStyle *src;
@@ -107,6 +112,7 @@ typedef struct RenderStyle {
   float alpha;                 /* the alpha its samples get in the tile pass: 1, or 0 for
                                   shade ink, which the canvas paints afterwards */
   struct InkStyle *ink;        /* shade ink: its parameters (ink.h), else NULL */
+  ThresholdStyle *layers;      /* shade threshold: its layers, else NULL */
 } RenderStyle;
 
 /* Where an object's centre (SceneObject.centre) lands: the noise, the
@@ -138,6 +144,7 @@ typedef struct RenderObject {
   const struct ScreenTexObject *tex;   /* its noise and pattern mapping, or NULL */
   struct BokashiObject *bokashi;       /* its bokashi constants (shade_bokashi.c), or NULL */
   float *vink;                 /* shade ink: per-vertex Gouraud grey (ink.h), else NULL */
+  TexTriangle *texcoords;      /* threshold: per triangle, its texture coordinates, else NULL */
 } RenderObject;
 
 typedef struct RenderFrame {

@@ -30,7 +30,7 @@ static const ShadeFn models[] = {
   /* SHADE_GOURAUD */   shade_gouraud,
   /* SHADE_PHONG */     shade_phong,
   /* SHADE_TOON */      shade_toon,
-  /* SHADE_THRESHOLD */ shade_phong,
+  /* SHADE_THRESHOLD */ shade_threshold,
   /* SHADE_BOKASHI */   shade_bokashi,
   /* SHADE_INK */       shade_ink,
   /* SHADE_ORIGAMI */   shade_phong,
@@ -44,6 +44,7 @@ ShadeFn shade_model(ShadeKind kind) {
 ShadeSpanFn shade_span_model(ShadeKind kind) {
   if (kind == SHADE_TOON) return shade_toon_span;
   if (kind == SHADE_BOKASHI) return shade_bokashi_span;
+  if (kind == SHADE_THRESHOLD) return shade_threshold_span;
   return shade_span_generic;
 }
 
@@ -58,11 +59,12 @@ void shade_span_generic(const ShadeRow *r, const RenderObject *o, int k0, int k1
 }
 
 int shade_reads_uv(ShadeKind kind) {
-  /* the models in this file and shade_toon.c do not; textured ones will */
-  return kind == SHADE_THRESHOLD || kind == SHADE_ORIGAMI;
+  /* the models in this file, shade_toon.c and shade_threshold.c (which
+  ** makes its own coordinates) do not; textured ones will */
+  return kind == SHADE_ORIGAMI;
 }
 
-void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
+int shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   const ShadeToon *t = &st->shade.toon;
   rs->src = st;
   rs->kind = st->shade.kind;
@@ -72,7 +74,7 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->ambient = (float)t->ambient;
   rs->specular = (float)t->specular;
   rs->shininess = t->shininess > 0 ? (float)t->shininess : 32.0f;
-  rs->bands_n = (t->bands >= 2 ? t->bands : 3) - 1;
+  rs->bands_n = (t->bands >= 2 ? t->bands : st->shade.kind == SHADE_THRESHOLD ? 2 : 3) - 1;
   rs->threshold = (float)t->threshold;
   rs->spec_n = (t->specular_bands >= 2 ? t->specular_bands : 2) - 1;
   rs->spec_threshold = (float)t->specular_threshold;
@@ -97,6 +99,8 @@ void shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   for (int c = 0; c < 3; c++) rs->fill[c] = rs->kind == SHADE_BOKASHI ? rs->lit_color[c] : rs->base[c];
   rs->alpha = st->shade.kind == SHADE_INK ? 0.0f : 1.0f;   /* ink: painted on the canvas later */
   rs->ink = NULL;                                          /* shade_ink_prepare */
+  rs->layers = NULL;
+  return rs->kind == SHADE_THRESHOLD ? shade_threshold_init(rs, st) : 1;
 }
 
 void shade_centre_init(const RenderFrame *f, RenderObject *o) {
@@ -115,6 +119,14 @@ void shade_centre_init(const RenderFrame *f, RenderObject *o) {
     double z = fmax(v3_dot(v3_sub(w, c->eye), c->forward), c->znear);
     rc->wpp = (float)(z * 2 * tan(c->fov * M_PI / 360) / c->height);
   }
+}
+
+void shade_style_free(RenderStyle *rs) { shade_threshold_free(rs); }
+
+int shade_prepare_object(const RenderFrame *f, RenderObject *o) {
+  if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
+  if (o->style->kind == SHADE_BOKASHI) shade_bokashi_prepare(f, o);
+  return o->style->kind == SHADE_THRESHOLD ? shade_threshold_prepare(f, o) : 1;
 }
 
 /* ---- rows of samples ---------------------------------------------------- */

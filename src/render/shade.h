@@ -11,6 +11,9 @@
 **                 section 2.2.3)
 **   shade_ink.c   ink: the Gouraud grey per vertex and its quantisation
 **                 (003 ch. 5.2); the canvas paints it after the pass (ink.h)
+**   shade_threshold.c  threshold textures: toon's T_n with the threshold
+**                 read from hatching, stipple and CLAHE'd image layers,
+**                 filtered (002 sections 3-5)
 ** The tile pass shades a row of samples in two steps: it rebuilds each
 ** sample's surface from its triangle's corners into a ShadeRow, plane by
 ** plane (shade_row_rebuild per run of samples of one triangle, several
@@ -127,6 +130,8 @@ typedef struct BokashiObject {
 ** per-vertex sphere o->vcolor; shade_bokashi_free releases it. */
 void shade_bokashi_prepare(const RenderFrame *f, RenderObject *o);
 void shade_bokashi_free(RenderObject *o);
+void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                          int stride);
 
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
 int shade_reads_uv(ShadeKind kind);
@@ -136,8 +141,24 @@ int shade_reads_uv(ShadeKind kind);
 #define BOKASHI_UNLIT_DEFAULT 0.25f
 
 /* Resolve a style's shading constants (defaults for unset values: bands
-** 0 -> 3, specular_bands 0 -> 2, shininess 0 -> 32). */
-void shade_style_init(RenderStyle *rs, const SceneStyle *st);
+** 0 -> 3 (2 for threshold), specular_bands 0 -> 2, shininess 0 -> 32) and
+** its model's own (a threshold style's layers and images). Returns 1, or 0
+** after a diagnostic (an image that cannot be read). shade_style_free
+** releases what it made, even after a failure. */
+int shade_style_init(RenderStyle *rs, const SceneStyle *st);
+void shade_style_free(RenderStyle *rs);
+
+/* What object o's model keeps per vertex or triangle for the frame's
+** camera (gouraud: vertex colours; bokashi: its constants; threshold:
+** texture coordinates), freed
+** with the frame. Returns 0 after a diagnostic (threshold: a projection
+** that needs coordinates the geometry does not have). */
+int shade_prepare_object(const RenderFrame *f, RenderObject *o);
+
+/* shade threshold's part of the above (shade_threshold.c). */
+int shade_threshold_init(RenderStyle *rs, const SceneStyle *st);
+void shade_threshold_free(RenderStyle *rs);
+int shade_threshold_prepare(const RenderFrame *f, RenderObject *o);
 
 /* Unit vector toward point light lt from world point (x, y, z) into l*;
 ** returns the falloff factor there (1 / d^2 for an inverse-square light,
@@ -209,5 +230,6 @@ void shade_toon(const ShadeSample *s, float rgb[3]);
 void shade_bokashi(const ShadeSample *s, float rgb[3]);
 /* shade ink (shade_ink.c): nothing, transparent: the canvas paints it. */
 void shade_ink(const ShadeSample *s, float rgb[3]);
+void shade_threshold(const ShadeSample *s, float rgb[3]);
 
 #endif

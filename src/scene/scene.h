@@ -124,6 +124,43 @@ typedef struct ShadeInk {
   int *light_index;           /* their indices into Scene.lights (once evaluated) */
   SrcRange levels_loc, tones_loc, lights_loc;
 } ShadeInk;
+/* shade threshold (002 sections 3-5): toon's T_n with the threshold t read
+** from layers of threshold textures. */
+typedef enum { LAYER_HATCH, LAYER_STIPPLE, LAYER_IMAGE } ThresholdLayerKind;
+typedef enum { TERM_BOTH, TERM_DIFFUSE, TERM_SPECULAR } ThresholdTerm;
+typedef enum {
+  PROJ_AUTO, PROJ_UV, PROJ_PLANAR, PROJ_BOX, PROJ_CYLINDRICAL, PROJ_SPHERICAL
+} TexProjection;
+
+typedef struct ThresholdLayer {
+  ThresholdLayerKind kind;
+  int term;                   /* ThresholdTerm: which smooth term it thresholds */
+  double range[2];            /* tone range: solid below range[0], absent above range[1] */
+  double angle;               /* degrees in texture space */
+  double spacing;             /* hatch, stipple: pixels between lines or dots on screen */
+  const char *file;           /* image: the path, resolved against the scene's folder */
+  double window;              /* image: CLAHE window, texels a side */
+  double clip;                /* image: CLAHE clip limit (OpenCV's scale; 0 = none) */
+  double scale;               /* image: texture units one copy of the image covers */
+  double noise;               /* displacement by noise, in the layer's features */
+  double noise_scale;         /* texture units a noise cell spans */
+  SrcRange loc;
+  SrcRange file_loc;
+} ThresholdLayer;
+
+/* Most layers one `shade threshold` may have. */
+#define SCENE_MAX_LAYERS 8
+
+typedef struct ShadeThreshold {
+  int projection;             /* TexProjection */
+  double scale;               /* texture space = projected coordinates / scale */
+  int filter;                 /* percentage-closer filtering of the thresholded result */
+  double strength;            /* blend of thresholded over smooth shading */
+  double *facing; int nfacing;   /* strength curve over n.v (NULL: 1) */
+  double *light; int nlight;     /* strength curve over the smooth term (NULL: 1) */
+  ThresholdLayer *layers; int nlayers;
+  SrcRange projection_loc;
+} ShadeThreshold;
 
 typedef struct SceneShade {
   ShadeKind kind;
@@ -131,6 +168,7 @@ typedef struct SceneShade {
   ShadeToon toon;             /* also holds specular/shininess/ambient for phong etc. */
   int lit;                    /* shade flat: 0 = unlit, the base colour as it is */
   ShadeBokashi bokashi;
+  ShadeThreshold threshold;   /* shade threshold: its layers and strength */
   /* shade origami */
   int origami_mode;           /* 0 line, 1 illustration, 2 shaded */
   Color origami_color;        /* linear like every colour; default is Mitani's display (1, 1, 0.95) */

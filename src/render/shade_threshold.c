@@ -1,0 +1,536 @@
+/*
+** Threshold textures (002 sections 2-5): toon's lighting equation with the
+** multi-band step T_n applied to the diffuse and the specular terms, where
+** the threshold t of T_n varies over the surface, read from layers of
+** threshold textures:
+**   I = m_a l_a + sum_i m_d T_n(f_d, t_d) l_i + sum_i m_s T_m(f_s, t_s) l_i.
+** A layer is procedural lines (hatch.h: the dyadic rescaling of eq. 5-8),
+** stipple dots, or an image equalized by CLAHE at every mip level
+** (texture.h), each over texture coordinates with screen derivatives from
+** the triangle's own gradients (texcoord.h).
+**
+** Filtering (section 4) is percentage-closer: the smooth shade is
+** thresholded against several thresholds of the sample's footprint and the
+** results averaged, not the thresholds: exactly (the box-filtered sawtooth)
+** for lines, over four taps of the footprint for dots, over the two mip
+** levels for images. A layer's result is the bright fraction of the
+** footprint for shade y, C(y) = P(t <= y).
+**
+** Composition: a layer is active over its tone range [lo, hi] (the band's
+** shade y maps to (y - lo) / (hi - lo): solid ink below lo, none above hi),
+** and the layers of a term ink wherever any of them does, so the bright
+** fraction is the product of theirs (cross-hatching: a second layer at
+** another angle over the darker half). A term no layer names thresholds at
+** the style's constant (toon's `threshold`, `specular_threshold`).
+**
+** Strength (section 5): the thresholded value blends back toward the
+** smooth one, T' = x + s (T - x), with s = strength times the `facing`
+** curve at n.v times the `light` curve at the smooth term x.
+*/
+#include "shade.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/mem.h"
+#include "../base/rng.h"
+#include "../lang/diag.h"
+#include "hatch.h"
+#include "texcoord.h"
+#include "texture.h"
+
+/* ---- the style, resolved once a frame ----------------------------------------- */
+
+enum { TERM_DIFFUSE_BIT = 1, TERM_SPECULAR_BIT = 2 };
+
+/* One layer as the model reads it. */
+typedef struct Layer {
+  ThresholdLayerKind kind;
+  unsigned terms;              /* TERM_*_BIT */
+  float lo, inv_span;          /* the tone range: y -> (y - lo) / (hi - lo) */
+  float cs, sn;                /* the angle's cosine and sine */
+  float spacing;               /* pixels (hatch, stipple) */
+  float noise, inv_noise_scale;
+  uint32_t seed;               /* the noise lattice's */
+  const ThresholdTexture *tex; /* image */
+  float inv_scale;             /* image: copies a texture unit */
+} Layer;
+
+struct ThresholdStyle {
+  float inv_scale;             /* texture units an object unit */
+  int filter;
+  float strength;
+  const double *facing, *light;
+  int nfacing, nlight;
+  int nlayers;
+  Layer *layers;
+};
+
+/* A layer when the block gives none: the default hatch. */
+static ThresholdLayer default_layer(void) {
+  ThresholdLayer l;
+  memset(&l, 0, sizeof l);
+  l.kind = LAYER_HATCH;
+  l.range[1] = 1;
+  l.angle = 45;
+  l.spacing = 6;
+  l.noise_scale = 0.1;
+  l.loc = l.file_loc = src_none();
+  return l;
+}
+
+static int layer_init(Layer *L, const ThresholdLayer *src, int index) {
+  L->kind = src->kind;
+  L->terms = src->term == TERM_DIFFUSE ? TERM_DIFFUSE_BIT
+             : src->term == TERM_SPECULAR ? TERM_SPECULAR_BIT
+                                          : TERM_DIFFUSE_BIT | TERM_SPECULAR_BIT;
+  L->lo = (float)src->range[0];
+  L->inv_span = (float)(1 / (src->range[1] - src->range[0]));
+  L->cs = (float)cos(src->angle * M_PI / 180);
+  L->sn = (float)sin(src->angle * M_PI / 180);
+  L->spacing = (float)src->spacing;
+  L->noise = (float)src->noise;
+  L->inv_noise_scale = (float)(1 / src->noise_scale);
+  Rng r;
+  rng_seed_key(&r, 0x5eed, 0, (uint32_t)index);   /* the lattice of layer index */
+  L->seed = rng_next(&r);
+  L->inv_scale = src->scale > 0 ? (float)(1 / src->scale) : 1;
+  L->tex = NULL;
+  if (src->kind != LAYER_IMAGE) return 1;
+  char err[512];
+  L->tex = texture_threshold(src->file, src->window, src->clip, err, sizeof err);
+  if (L->tex) return 1;
+  diag_error(src->file_loc.file >= 0 ? src->file_loc : src->loc, "%s", err);   /* it names the file */
+  return 0;
+}
+
+int shade_threshold_init(RenderStyle *rs, const SceneStyle *st) {
+  const ShadeThreshold *th = &st->shade.threshold;
+  ThresholdStyle *ts = xcalloc(1, sizeof *ts);
+  rs->layers = ts;
+  ts->inv_scale = th->scale > 0 ? (float)(1 / th->scale) : 1;
+  ts->filter = th->filter;
+  ts->strength = (float)th->strength;
+  ts->facing = th->facing;
+  ts->nfacing = th->nfacing;
+  ts->light = th->light;
+  ts->nlight = th->nlight;
+  ThresholdLayer fallback = default_layer();
+  ts->nlayers = th->nlayers > 0 ? th->nlayers : 1;
+  ts->layers = xcalloc((size_t)ts->nlayers, sizeof *ts->layers);
+  int ok = 1;
+  for (int i = 0; i < ts->nlayers; i++)
+    ok &= layer_init(&ts->layers[i], th->nlayers > 0 ? &th->layers[i] : &fallback, i);
+  return ok;
+}
+
+void shade_threshold_free(RenderStyle *rs) {
+  if (!rs->layers) return;
+  free(rs->layers->layers);
+  free(rs->layers);
+  rs->layers = NULL;
+}
+
+int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
+  const SceneShade *sh = &o->style->src->shade;
+  if (!texcoord_available(o, sh->threshold.projection)) {
+    diag_error(sh->threshold.projection_loc.file >= 0 ? sh->threshold.projection_loc : sh->loc,
+               "`projection uv` needs texture coordinates, and this object's geometry has none "
+               "(a mesh without UVs, or a subdivision surface); use planar, box, cylindrical or spherical");
+    diag_note(o->src->loc, "the object");
+    return 0;
+  }
+  int projection = texcoord_resolve(o, sh->threshold.projection);
+  TexView view;
+  texcoord_view(&view, &f->camera);
+  int n = o->mesh->ntris;
+  o->texcoords = xmalloc(((size_t)n + 1) * sizeof *o->texcoords);
+  for (int t = 0; t < n; t++)
+    texcoord_triangle(&o->texcoords[t], o, t, projection, o->style->layers->inv_scale, &view);
+  return 1;
+}
+
+/* ---- a block of samples -------------------------------------------------------- */
+
+#ifndef FOOTPRINT
+#define FOOTPRINT 1.0f
+#endif
+
+/* Samples shaded together: their planes live on the stack. */
+#define BLOCK 64
+
+/* Most thresholds a layer reads at a sample (an image's trilinear taps). */
+#define MAX_TAPS 8
+
+/* A block's samples: texture coordinates and derivatives, n.v, and what
+** each layer found (a[0..2] for lines: position in the period, footprint,
+** blend; else thresholds a[0..nq-1] and their weights a[MAX_TAPS..]). */
+typedef struct Block {
+  int n;
+  float u[BLOCK], v[BLOCK], ux[BLOCK], uy[BLOCK], vx[BLOCK], vy[BLOCK];
+  float nv[BLOCK];
+  float a[SCENE_MAX_LAYERS][2 * MAX_TAPS][BLOCK];
+  int nq[SCENE_MAX_LAYERS];
+} Block;
+
+/* The coordinates of samples k0..k0+n-1 of r (object o) into b. */
+static void block_coords(Block *b, const ShadeRow *r, const RenderObject *o, const TexView *view,
+                         int k0, int n) {
+  for (int j = 0; j < n; j++) {
+    int k = k0 + j;
+    const TexTriangle *tt = &o->texcoords[r->face[k]];
+    float p[3] = {r->px[k], r->py[k], r->pz[k]}, uv[2], d[4];
+    texcoord_sample(tt, view, r->bary[k][0], r->bary[k][1], p, uv, d);
+    b->u[j] = uv[0]; b->v[j] = uv[1];
+    b->ux[j] = d[0]; b->uy[j] = d[1]; b->vx[j] = d[2]; b->vy[j] = d[3];
+  }
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+  for (int j = 0; j < n; j++) {
+    float nv = nx[j] * vx[j] + ny[j] * vy[j] + nz[j] * vz[j];
+    b->nv[j] = nv > 0 ? nv : 0;
+  }
+}
+
+/* Noise displacement in [-1/2, 1/2) times the layer's amount at sample j. */
+static inline float noise_shift(const Layer *L, const Block *b, int j, uint32_t salt) {
+  return L->noise * (hatch_noise(b->u[j] * L->inv_noise_scale, b->v[j] * L->inv_noise_scale, L->seed ^ salt) - 0.5f);
+}
+
+/* Lines along the iso-lines of h = -sin(a) u + cos(a) v: the position in
+** the period at the dyadic scale, the footprint (FOOTPRINT times
+** |dh/dx| + |dh/dy| of a sample, in periods) and the blend. Noise moves h by a fraction of the
+** spacing on screen, so it stays put across scales. */
+static void hatch_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK]) {
+  float cs = L->cs, sn = L->sn, w = L->spacing, k = filter ? inv_n : 0;
+  float shift[BLOCK];
+  for (int j = 0; j < b->n; j++) shift[j] = L->noise > 0 ? noise_shift(L, b, j, 0) * w : 0;
+  for (int j = 0; j < b->n; j++) {
+    float h = -sn * b->u[j] + cs * b->v[j];
+    float hx = -sn * b->ux[j] + cs * b->vx[j], hy = -sn * b->uy[j] + cs * b->vy[j];
+    float g = sqrtf(hx * hx + hy * hy), m, t;
+    hatch_scale(g, w, &m, &t);
+    float x = m * (h + shift[j] * g);
+    x = fabsf(x) < 0x1p23f ? x - hatch_floor(x) : 0;   /* past 2^23 a float has no fraction */
+    a[0][j] = x;
+    a[1][j] = m * (fabsf(hx) + fabsf(hy)) * k * FOOTPRINT;
+    a[2][j] = t;
+  }
+}
+
+/* Dots on the grid of a = cos(a) u + sin(a) v, b = -sin(a) u + cos(a) v,
+** spaced by the denser of the two directions; filtered over four taps at
+** (+-1/4, +-1/4) of the sample's footprint. */
+static void stipple_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK],
+                          int *nq) {
+  static const float tap[4][2] = {{-0.25f, -0.25f}, {0.25f, -0.25f}, {-0.25f, 0.25f}, {0.25f, 0.25f}};
+  float cs = L->cs, sn = L->sn;
+  *nq = filter ? 4 : 1;
+  for (int j = 0; j < b->n; j++) {
+    float s = cs * b->u[j] + sn * b->v[j], t = -sn * b->u[j] + cs * b->v[j];
+    float sx = cs * b->ux[j] + sn * b->vx[j], sy = cs * b->uy[j] + sn * b->vy[j];
+    float tx = -sn * b->ux[j] + cs * b->vx[j], ty = -sn * b->uy[j] + cs * b->vy[j];
+    float g = fmaxf(sqrtf(sx * sx + sy * sy), sqrtf(tx * tx + ty * ty)), m, blend;
+    hatch_scale(g, L->spacing, &m, &blend);
+    if (L->noise > 0) {
+      s += noise_shift(L, b, j, 0) * L->spacing * g;
+      t += noise_shift(L, b, j, 0x9e3779b9u) * L->spacing * g;
+    }
+    s *= m;
+    t *= m;
+    s -= hatch_floor(s);
+    t -= hatch_floor(t);
+    if (!filter) {
+      a[0][j] = stipple_value(s, t, blend);
+      a[MAX_TAPS][j] = 1;
+      continue;
+    }
+    float k = m * inv_n;
+    for (int i = 0; i < 4; i++) {
+      float ox = tap[i][0] * k, oy = tap[i][1] * k;
+      a[i][j] = stipple_value(s + sx * ox + sy * oy, t + tx * ox + ty * oy, blend);
+      a[MAX_TAPS + i][j] = 0.25f;
+    }
+  }
+}
+
+/* The image, turned by the angle and repeating every `scale` texture
+** units, at the footprint's level of detail: the trilinear filter's eight
+** texels and weights (filtered) or the nearest texel of the nearest level
+** (texture.h says why not interpolated values). Noise moves the
+** coordinates by a fraction of the noise's cell. */
+static void image_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK],
+                        int *nq) {
+  const ThresholdTexture *tex = L->tex;
+  float k = L->inv_scale, cs = L->cs * k, sn = L->sn * k, cell = 1 / L->inv_noise_scale;
+  float W = (float)tex->level[0].w, H = (float)tex->level[0].h;
+  *nq = filter ? 8 : 1;
+  for (int j = 0; j < b->n; j++) {
+    float s = cs * b->u[j] + sn * b->v[j], t = -sn * b->u[j] + cs * b->v[j];
+    float sx = cs * b->ux[j] + sn * b->vx[j], sy = cs * b->uy[j] + sn * b->vy[j];
+    float tx = -sn * b->ux[j] + cs * b->vx[j], ty = -sn * b->uy[j] + cs * b->vy[j];
+    if (L->noise > 0) {
+      s += noise_shift(L, b, j, 0) * cell * k;
+      t += noise_shift(L, b, j, 0x9e3779b9u) * cell * k;
+    }
+    float rx = sqrtf(sx * sx * W * W + tx * tx * H * H), ry = sqrtf(sy * sy * W * W + ty * ty * H * H);
+    int k0, k1;
+    float w1;
+    texture_lod(tex, fmaxf(rx, ry) * inv_n, &k0, &k1, &w1);
+    if (!filter) {
+      a[0][j] = texture_level_nearest(tex, w1 < 0.5f ? k0 : k1, s, t);
+      a[MAX_TAPS][j] = 1;
+      continue;
+    }
+    float q[8], w[8];
+    texture_level_taps(tex, k0, s, t, q, w);
+    texture_level_taps(tex, k1, s, t, q + 4, w + 4);
+    for (int i = 0; i < 8; i++) {
+      a[i][j] = q[i];
+      a[MAX_TAPS + i][j] = w[i] * (i < 4 ? 1 - w1 : w1);
+    }
+  }
+}
+
+static void block_layers(const ThresholdStyle *ts, Block *b, float inv_n) {
+  for (int i = 0; i < ts->nlayers; i++) {
+    const Layer *L = &ts->layers[i];
+    b->nq[i] = 0;
+    switch (L->kind) {
+    case LAYER_HATCH: hatch_block(L, b, inv_n, ts->filter, b->a[i]); break;
+    case LAYER_STIPPLE: stipple_block(L, b, inv_n, ts->filter, b->a[i], &b->nq[i]); break;
+    case LAYER_IMAGE: image_block(L, b, inv_n, ts->filter, b->a[i], &b->nq[i]); break;
+    }
+  }
+}
+
+/* ---- the step and the strength ------------------------------------------------------ */
+
+/* A strength curve at x in [0, 1]: n values spread evenly, linear between. */
+static float curve_at(const double *c, int n, float x) {
+  if (n <= 0) return 1;
+  if (n == 1) return (float)c[0];
+  x = x > 0 ? (x < 1 ? x : 1) : 0;
+  float p = x * (float)(n - 1);
+  int i = (int)p;
+  if (i >= n - 1) return (float)c[n - 1];
+  return (float)(c[i] + (p - (float)i) * (c[i + 1] - c[i]));
+}
+
+/* Multiply bright[j0..j1) by layer i's bright fraction for the band
+** positions y (P(t <= y') over the footprint, y' = y in the layer's range). */
+__attribute__((noinline)) static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const float *y,
+                         float *bright, int j0, int j1) {
+  const Layer *L = &ts->layers[i];
+  const float(*a)[BLOCK] = b->a[i];
+  float lo = L->lo, inv = L->inv_span;
+  if (L->kind == LAYER_HATCH) {
+    for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage(a[0][j], a[1][j], a[2][j], (y[j] - lo) * inv);
+    return;
+  }
+  int nq = b->nq[i];
+  for (int j = j0; j < j1; j++) {
+    float yl = (y[j] - lo) * inv, c = 0;
+    for (int q = 0; q < nq; q++) c += a[q][j] <= yl ? a[MAX_TAPS + q][j] : 0;
+    c = yl > 0 ? c : 0;   /* below the range: solid */
+    bright[j] *= yl < 1 ? c : 1;
+  }
+}
+
+/* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
+** layers (eq. 4; the filtered bright fraction in place of T(frac(xn), t)),
+** blended toward x by the strength, into T. */
+static void textured_step(const ThresholdStyle *ts, const Block *b, unsigned term, const float *x_in,
+                          int n, float inv_n, float t_const, float *T, int j0, int j1) {
+  float x[BLOCK], whole[BLOCK], frac[BLOCK], bright[BLOCK];
+  for (int j = j0; j < j1; j++) {
+    float xc = x_in[j] > 0 ? (x_in[j] < 1 ? x_in[j] : 1) : 0;   /* NaN too */
+    float xn = xc * (float)n, w = (float)(int)xn;
+    x[j] = xc;
+    whole[j] = w;
+    frac[j] = xn - w;
+    bright[j] = 1;
+  }
+  int any = 0;
+  for (int i = 0; i < ts->nlayers; i++)
+    if (ts->layers[i].terms & term) {
+      layer_bright(ts, b, i, frac, bright, j0, j1);
+      any = 1;
+    }
+  if (!any)
+    for (int j = j0; j < j1; j++) bright[j] = frac[j] < t_const ? 0.0f : 1.0f;
+  for (int j = j0; j < j1; j++) {   /* whole = n only at x = 1, where T is 1 */
+    float t = (whole[j] + bright[j]) * inv_n;
+    T[j] = t < 1 ? t : 1;
+  }
+  if (!ts->nfacing && !ts->nlight) {   /* a constant strength */
+    float s = ts->strength;
+    if (s < 1)
+      for (int j = j0; j < j1; j++) T[j] = x[j] + s * (T[j] - x[j]);
+    return;
+  }
+  for (int j = j0; j < j1; j++) {
+    float s = ts->strength * curve_at(ts->facing, ts->nfacing, b->nv[j]) * curve_at(ts->light, ts->nlight, x[j]);
+    T[j] = x[j] + s * (T[j] - x[j]);
+  }
+}
+
+/* ---- colours ---------------------------------------------------------------------- */
+
+/* The ramp's colour at position p in [0, n - 1], linear between entries
+** (a filtered step lands between two). */
+static void ramp_mix(const Color *ramp, int n, float p, float rgb[3]) {
+  int i = p > 0 ? (int)p : 0;
+  if (i >= n - 1) i = n > 1 ? n - 2 : 0;
+  float f = n > 1 ? fminf(fmaxf(p - (float)i, 0), 1) : 0;
+  const Color *a = &ramp[i], *c = &ramp[n > 1 ? i + 1 : i];
+  rgb[0] = a->r + f * (c->r - a->r);
+  rgb[1] = a->g + f * (c->g - a->g);
+  rgb[2] = a->b + f * (c->b - a->b);
+}
+
+/* Ramps for sample j of the block (sample s): the light-weighted diffuse
+** (and specular) values, thresholded with as many bands as the ramp has
+** steps, pick the colour. */
+static void ramp_sample(const ShadeSample *s, const RenderStyle *st, const Block *b, int j,
+                        float rgb[3]) {
+  const ShadeToon *t = &st->src->shade.toon;
+  const ThresholdStyle *ts = st->layers;
+  float d[BLOCK], sp[BLOCK], T[BLOCK];
+  d[j] = sp[j] = 0;
+  for (int i = 0; i < s->frame->nlights; i++) {
+    float l[3], col[3];
+    shade_light(s->frame, i, s->p, l, col);
+    float w = (col[0] + col[1] + col[2]) / 3;
+    d[j] += shade_diffuse(s->n, l) * w;
+    if (st->specular > 0) sp[j] += shade_specular(s->n, l, s->v, st->shininess) * w;
+  }
+  int n = t->nramp - 1;
+  T[j] = 0;
+  if (n > 0) textured_step(ts, b, TERM_DIFFUSE_BIT, d, n, 1.0f / n, st->threshold, T, j, j + 1);
+  ramp_mix(t->ramp, t->nramp, T[j] * n, rgb);
+  if (st->specular <= 0) return;
+  int m = t->nspecular_ramp > 0 ? t->nspecular_ramp - 1 : st->spec_n;
+  T[j] = 0;
+  if (m > 0) textured_step(ts, b, TERM_SPECULAR_BIT, sp, m, 1.0f / m, st->spec_threshold, T, j, j + 1);
+  if (t->nspecular_ramp > 0) {
+    float c[3];
+    ramp_mix(t->specular_ramp, t->nspecular_ramp, T[j] * m, c);
+    rgb[0] += c[0]; rgb[1] += c[1]; rgb[2] += c[2];
+  } else {
+    float k = st->specular * T[j];
+    rgb[0] += k; rgb[1] += k; rgb[2] += k;
+  }
+}
+
+/* The smooth specular term of samples k0..k0+n-1 of r lit from l*: f_s =
+** (n.h / |h|)^shininess where n.l > 0, else 0; the power only where it can
+** reach 2^-24 (below that it changes no colour). any: whether one does. */
+static int specular_block(const ShadeRow *r, const RenderStyle *st, int k0, int n, const float *lx,
+                          const float *ly, const float *lz, const float *nl, float *fs) {
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+  float cut = powf(0x1p-24f, 1 / st->shininess), cut2 = cut * cut;
+  int any = 0;
+  for (int j = 0; j < n; j++) {
+    float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];
+    float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
+    int lit = !(nl[j] <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
+    fs[j] = lit ? nh / sqrtf(hh) : 0;
+    any |= lit;
+  }
+  if (any)
+    for (int j = 0; j < n; j++)
+      if (fs[j] > 0) fs[j] = powf(fs[j], st->shininess);
+  return any;
+}
+
+/* Unit vectors toward light lt from samples k0..k0+n-1 of r, and the
+** falloff there (shade_point_light, a block at a time). */
+static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n, float *lx, float *ly,
+                        float *lz, float *fall) {
+  if (lt->directional) {
+    for (int j = 0; j < n; j++) {
+      lx[j] = lt->dir[0]; ly[j] = lt->dir[1]; lz[j] = lt->dir[2]; fall[j] = 1;
+    }
+    return;
+  }
+  const float *px = r->px + k0, *py = r->py + k0, *pz = r->pz + k0;
+  for (int j = 0; j < n; j++) fall[j] = shade_point_light(lt, px[j], py[j], pz[j], &lx[j], &ly[j], &lz[j]);
+}
+
+/* The bands for the block's samples (samples k0.. of r): each light's
+** textured steps on the diffuse and specular terms, summed per channel. */
+static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b, int k0, float *R,
+                        float *G, float *B) {
+  const ThresholdStyle *ts = st->layers;
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0, *base = st->base;
+  int n = b->n;
+  float lx[BLOCK], ly[BLOCK], lz[BLOCK], fall[BLOCK], nl[BLOCK], td[BLOCK], fs[BLOCK], tsp[BLOCK];
+  for (int j = 0; j < n; j++) {
+    R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
+  }
+  for (int i = 0; i < r->frame->nlights; i++) {
+    const RenderLight *lt = &r->frame->lights[i];
+    light_block(lt, r, k0, n, lx, ly, lz, fall);
+    for (int j = 0; j < n; j++) {
+      float d = nx[j] * lx[j] + ny[j] * ly[j] + nz[j] * lz[j];
+      nl[j] = d;
+      td[j] = d > 0 ? d : 0;
+    }
+    textured_step(ts, b, TERM_DIFFUSE_BIT, td, st->bands_n, st->inv_bands_n, st->threshold, td, 0, n);
+    int lit = st->specular > 0 && specular_block(r, st, k0, n, lx, ly, lz, nl, fs);
+    if (lit) textured_step(ts, b, TERM_SPECULAR_BIT, fs, st->spec_n, st->inv_spec_n, st->spec_threshold, tsp, 0, n);
+    for (int j = 0; j < n; j++) {
+      float spec = lit ? st->specular * tsp[j] : 0;
+      float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
+      R[j] += (base[0] * td[j] + spec) * c0;
+      G[j] += (base[1] * td[j] + spec) * c1;
+      B[j] += (base[2] * td[j] + spec) * c2;
+    }
+  }
+}
+
+/* ---- spans --------------------------------------------------------------------------- */
+
+void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                          int stride) {
+  const RenderFrame *f = r->frame;
+  const RenderStyle *st = o->style;
+  TexView view;
+  texcoord_view(&view, &f->camera);
+  float inv_n = 1.0f / (float)f->samples;   /* a sample's share of a pixel side */
+  int ramps = st->src->shade.toon.nramp > 0;
+  Block b;
+  float R[BLOCK], G[BLOCK], B[BLOCK];
+  for (int k = k0; k < k1; k += BLOCK) {
+    b.n = k1 - k < BLOCK ? k1 - k : BLOCK;
+    block_coords(&b, r, o, &view, k, b.n);
+    block_layers(st->layers, &b, inv_n);
+    if (!ramps) bands_block(r, st, &b, k, R, G, B);
+    for (int j = 0; j < b.n; j++) {
+      float *out = rgb + (size_t)(k + j) * stride;
+      if (st->edge > 0 && b.nv[j] < st->edge) {   /* edge = max(0, n.v) below the cutoff */
+        out[0] = st->edge_color[0]; out[1] = st->edge_color[1]; out[2] = st->edge_color[2];
+      } else if (ramps) {
+        ShadeSample s;
+        shade_row_sample(r, o, k + j, &s);
+        ramp_sample(&s, st, &b, j, out);
+      } else {
+        out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
+      }
+    }
+  }
+}
+
+/* One sample as a span of one. */
+void shade_threshold(const ShadeSample *s, float rgb[3]) {
+  float p[3] = {s->p[0], s->p[1], s->p[2]}, n[3] = {s->n[0], s->n[1], s->n[2]};
+  float v[3] = {s->v[0], s->v[1], s->v[2]}, uv[2] = {s->uv[0], s->uv[1]};
+  float bary[1][2] = {{s->b1, s->b2}};
+  int32_t face = s->face;
+  ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
+                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy};
+  shade_threshold_span(&r, s->obj, 0, 1, rgb, 3);
+}

@@ -1,0 +1,89 @@
+/*
+** Texture coordinates of a surface and their screen-space rates of change,
+** for the textured shading models (threshold textures, 002 section 3).
+**
+** Coordinates come from the mesh's own (u, v) (a patch's parameters, an
+** imported mesh's UVs) or from a projection of the object-space surface
+** point p = (x, y, z), in texture units of `scale` object units:
+**   planar       (x, y)
+**   box          the two axes across the triangle's largest normal axis
+**                (x: (y, z), y: (x, z), z: (x, y))
+**   cylindrical  (turns around z, z): u = atan2(y, x) / 2 pi
+**   spherical    (turns around z, latitude): v = 1/2 + asin(z / |p|) / pi
+** Each corner of a triangle is projected and the coordinates interpolated
+** across it, as a mesh's UVs are: around the seam of the cylinder and the
+** sphere a triangle's corners are unwrapped to one side, and a corner on
+** the axis takes the angle of the others. So the coordinates are affine
+** over each triangle, and their screen derivatives come from the
+** triangle's own plane and gradients: at a surface point p seen along
+** q = p - eye, one pixel step D of the view ray moves the point on the
+** plane (normal n) by dp = (q.f) (D - q (D.n) / (q.n)) (perspective, f the
+** forward axis and D at unit depth), or dp = D - f (D.n) / (f.n)
+** (orthographic), and the coordinates by G dp, G their world gradient.
+*/
+#ifndef render_texcoord_h
+#define render_texcoord_h
+
+#include "render.h"
+
+/* The camera as the derivatives need it: one output pixel's step along x
+** and along y (down) of the view ray at unit depth (perspective) or of the
+** ray itself (orthographic). */
+typedef struct TexView {
+  int ortho;
+  float eye[3], fwd[3];
+  float dx[3], dy[3];
+} TexView;
+
+/* The view of camera c (the output's: derivatives are per output pixel). */
+void texcoord_view(TexView *v, const Camera *c);
+
+/* One triangle's coordinates: at corner 0 (t0) and along its two edges
+** (t1 - t0, t2 - t0), so the coordinates at barycentrics (b1, b2) are
+** t0 + b1 d1 + b2 d2; and the constants of its screen derivatives. */
+struct TexTriangle {
+  float t0[2], d1[2], d2[2];
+  float gq[2];                 /* G q at corner 0 (q = w0 - eye), or G f (ortho) */
+  float gx[2], gy[2];          /* G D for the two pixel steps */
+  float nx, ny;                /* n.D */
+  float inv_qn;                /* 1 / (q.n) at corner 0, or 1 / (f.n) (ortho); 0 edge-on */
+};
+
+/* Whether projection (TexProjection) can give o's triangles coordinates:
+** PROJ_UV needs the mesh's own. */
+int texcoord_available(const RenderObject *o, int projection);
+
+/* Set up triangle face of object o for view v with projection (not
+** PROJ_AUTO: texcoord_resolve) and scale (object units a texture unit). */
+void texcoord_triangle(TexTriangle *tt, const RenderObject *o, int face, int projection,
+                       float inv_scale, const TexView *v);
+
+/* PROJ_AUTO made concrete for o: its own coordinates where it has them,
+** else box. */
+int texcoord_resolve(const RenderObject *o, int projection);
+
+/* The coordinates at barycentrics (b1, b2) of tt, world point p (on its
+** plane), into uv[2], and their derivatives per output pixel into
+** d[4] = (du/dx, du/dy, dv/dx, dv/dy). An edge-on triangle gives huge
+** derivatives (capped at TEXCOORD_MAX_RATE a pixel). */
+#define TEXCOORD_MAX_RATE 1e6f
+static inline void texcoord_sample(const TexTriangle *tt, const TexView *v, float b1, float b2,
+                                   const float p[3], float uv[2], float d[4]) {
+  float du = b1 * tt->d1[0] + b2 * tt->d2[0], dv = b1 * tt->d1[1] + b2 * tt->d2[1];
+  uv[0] = tt->t0[0] + du;
+  uv[1] = tt->t0[1] + dv;
+  float depth = 1, gq0 = tt->gq[0], gq1 = tt->gq[1];   /* ortho: G f, constant */
+  if (!v->ortho) {   /* G q at p: affine over the triangle */
+    gq0 += du;
+    gq1 += dv;
+    depth = (p[0] - v->eye[0]) * v->fwd[0] + (p[1] - v->eye[1]) * v->fwd[1] +
+            (p[2] - v->eye[2]) * v->fwd[2];
+  }
+  float kx = tt->nx * tt->inv_qn, ky = tt->ny * tt->inv_qn;
+  float r[4] = {depth * (tt->gx[0] - gq0 * kx), depth * (tt->gy[0] - gq0 * ky),
+                depth * (tt->gx[1] - gq1 * kx), depth * (tt->gy[1] - gq1 * ky)};
+  for (int k = 0; k < 4; k++)
+    d[k] = r[k] > TEXCOORD_MAX_RATE ? TEXCOORD_MAX_RATE : r[k] < -TEXCOORD_MAX_RATE ? -TEXCOORD_MAX_RATE : r[k];
+}
+
+#endif
