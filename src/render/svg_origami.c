@@ -249,6 +249,40 @@ static void face_path(FILE *f, const Block *b, int face) {
   fputc('Z', f);
 }
 
+/* Is the edge from corner k of face on a flat ("F") crease? It folds
+** nothing, so it is no line (the PNG's Sobel lines skip it too). */
+static int flat_edge(const OrigamiModel *m, int k) {
+  int c = m->face_crease[k];
+  return c >= 0 && m->creases[c].assignment == 'F';
+}
+
+static int has_flat_edge(const OrigamiModel *m, int face) {
+  for (int k = m->face_start[face]; k < m->face_start[face + 1]; k++)
+    if (flat_edge(m, k)) return 1;
+  return 0;
+}
+
+/* The face's outline as lines: face_path, less its flat edges. */
+static void face_lines(FILE *f, const Block *b, int face) {
+  const OrigamiModel *m = b->m;
+  int s = m->face_start[face], n = m->face_start[face + 1] - s;
+  if (!has_flat_edge(m, face)) { face_path(f, b, face); return; }
+  int k0 = 0;
+  while (!flat_edge(m, s + k0)) k0++;   /* start after a flat edge: each run is one open path */
+  int pen = 0;
+  for (int i = 1; i <= n; i++) {
+    int k = (k0 + i) % n;   /* corner k; the edge from k - 1 to k */
+    const double *q = b->xy[m->face_index[s + k]];
+    if (flat_edge(m, s + (k + n - 1) % n)) { pen = 0; continue; }
+    if (!pen) {
+      const double *p0 = b->xy[m->face_index[s + (k + n - 1) % n]];
+      fprintf(f, "M%.2f %.2f", p0[0], p0[1]);
+      pen = 1;
+    }
+    fprintf(f, "L%.2f %.2f", q[0], q[1]);
+  }
+}
+
 /* A clip path "c<uid>" of the pixels face shows, grown by grow pixels, as
 ** polygons; writes its attribute into attr. */
 static void face_clip(FILE *f, const Block *b, int face, int grow, int uid, unsigned char *mask, char *attr,
@@ -276,11 +310,17 @@ static void write_fill(FILE *f, const Block *b, int face, int cyclic, int with_l
                        unsigned char *mask) {
   char fill[32], stroke[160] = "", clip[48] = "";
   face_fill(f, b, face, t, (*uid)++, fill, sizeof fill);
+  int apart = with_line && has_flat_edge(b->m, face);   /* the outline less its flat edges */
   if (with_line) stroke_attrs(b, stroke, sizeof stroke);
   if (cyclic) face_clip(f, b, face, 0, (*uid)++, mask, clip, sizeof clip);
-  fprintf(f, "<path fill=\"%s\"%s%s d=\"", fill, stroke, clip);
+  fprintf(f, "<path fill=\"%s\"%s%s d=\"", fill, apart ? "" : stroke, clip);
   face_path(f, b, face);
   fprintf(f, "\"/>\n");
+  if (apart) {
+    fprintf(f, "<path fill=\"none\"%s%s d=\"", stroke, clip);
+    face_lines(f, b, face);
+    fprintf(f, "\"/>\n");
+  }
 }
 
 /* A face's outline, clipped to the pixels it shows grown by the line's
@@ -290,7 +330,7 @@ static void write_outline(FILE *f, const Block *b, int face, int *uid, unsigned 
   stroke_attrs(b, stroke, sizeof stroke);
   face_clip(f, b, face, (int)ceil(line_width(b) / 2) + 1, (*uid)++, mask, clip, sizeof clip);
   fprintf(f, "<path fill=\"none\"%s%s d=\"", stroke, clip);
-  face_path(f, b, face);
+  face_lines(f, b, face);
   fprintf(f, "\"/>\n");
 }
 
