@@ -415,6 +415,20 @@ static void stream_rows(void *ctx, const Image *img, int y0, int y1) {
     image_stream_rows(os->file, y0, y1, img->data8 + (size_t)y0 * img->width * img->channels);
 }
 
+/* Samples from which a frame's heap is backed by huge pages (base/mem.h):
+** they save ~1.5 ms of page faults at 1080p and cost a small render ~4 MB
+** of memory it does not use. */
+#define HUGE_HEAP_SAMPLES (1L << 20)
+
+/* Back the heap with huge pages once, before the first big frame. */
+static void heap_for_frame(const Scene *scene, const RenderOptions *ro) {
+  static int done;
+  long n = scene->output.samples > 0 ? scene->output.samples : 1;
+  if (done || (long)ro->width * ro->height * n * n < HUGE_HEAP_SAMPLES) return;
+  mem_heap_setup(1);
+  done = 1;
+}
+
 /* Start loading OpenImageIO on a thread when this render will need it
 ** (image.h): for the output format or the AOVs, known from the command
 ** line; for an input image, known once the scene is evaluated. */
@@ -430,6 +444,7 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   RenderOptions ro;
   memset(&ro, 0, sizeof ro);
   render_resolve_size(scene, o->width, o->height, &ro.width, &ro.height);
+  heap_for_frame(scene, &ro);
   ro.threads = o->threads;
   ro.stats = o->stats;
   const char *ext = strrchr(path, '.');
@@ -587,7 +602,7 @@ int main(int argc, char **argv) {
   if (!cmd) bad_usage("unknown command `%s`", o.command);
   if (!o.input) bad_usage("`sumi %s` needs an input file (or - for standard input)", o.command);
   if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
-  mem_heap_setup(cmd->needs_output);   /* the commands with an output render frames (base/mem.h) */
+  mem_heap_setup(0);   /* huge pages come later, for a big frame (heap_for_frame) */
   int status = cmd->run(&o);
   image_bridge_join();
   diag_shutdown();

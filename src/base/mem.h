@@ -37,7 +37,8 @@ void *xcalloc_huge(size_t n);
 ** pages, so a frame's buffers fault in 2 MB at a time instead of 4 KB
 ** (about 2,000 fewer faults, ~1.5 ms, in a 1080p frame); the other
 ** commands keep 4 KB pages, whose memory follows what they use more
-** closely. Call once, before any big allocation. Hints only: under
+** closely. Call once before any big allocation, and (sumi render does,
+** once it knows a frame is big) again with frames set. Hints only: under
 ** another allocator (sanitizers, valgrind) or without huge pages the
 ** pages stay as they are. */
 void mem_heap_setup(int frames);
