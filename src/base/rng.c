@@ -3,14 +3,6 @@
 */
 #include "rng.h"
 
-uint32_t rng_next(Rng *r) {
-  uint64_t old = r->state;
-  r->state = old * 6364136223846793005ULL + r->inc;
-  uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
-  uint32_t rot = (uint32_t)(old >> 59u);
-  return (xorshifted >> rot) | (xorshifted << ((-rot) & 31));
-}
-
 void rng_seed(Rng *r, uint64_t seed, uint64_t stream) {
   r->state = 0;
   r->inc = (stream << 1u) | 1u;

@@ -214,6 +214,24 @@ static void print_lines(const char *pre, const SceneLines *l, FILE *out) {
   line_num(out, pre, "miter_limit", l->miter_limit);
   line_num(out, pre, "min_length", l->min_length);
   line_num(out, pre, "depth_offset", l->depth_offset);
+  /* the Chinese-painting properties only where they take part (other
+  ** styles' snapshots stay as they were) */
+  static const char *visibility[] = {"auto", "reference", "endpoints"};
+  if (l->visibility != LINE_VIS_AUTO) fprintf(out, "%svisibility %s\n", pre, visibility[l->visibility]);
+  if (scene_lines_endpoints(l)) {
+    fprintf(out, "%scull_steps %d\n", pre, l->cull_steps);
+    line_num(out, pre, "link_distance", l->link_distance);
+  }
+  if (l->stroke != STROKE_BRUSH) return;
+  const SceneBrush *b = &l->brush;
+  line_num(out, pre, "width_step", b->width_step);
+  line_num(out, pre, "max_width", b->max_width);
+  fprintf(out, "%ssectors %d\n%sbristles %d\n", pre, b->sectors, pre, b->bristles);
+  line_num(out, pre, "brush_aspect", b->aspect);
+  line_num(out, pre, "ink_load", b->ink_load);
+  line_num(out, pre, "dry_probability", b->dry_probability);
+  fprintf(out, "%sdry_max_gap %d\n", pre, b->dry_max_gap);
+  line_num(out, pre, "pressure", b->pressure);
 }
 
 static void print_param(const char *pre, const SceneParam *p, FILE *out) {

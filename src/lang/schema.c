@@ -977,6 +977,18 @@ static const Row lines_rows[] = {
   NUM("miter_limit", SceneLines, miter_limit, 1, 100, 4),
   NUM("min_length", SceneLines, min_length, 0, INFINITY, 4),
   NUM("depth_offset", SceneLines, depth_offset, -INFINITY, INFINITY, 0),
+  SYM("visibility", SceneLines, visibility, "auto|reference|endpoints"),
+  INT("cull_steps", SceneLines, cull_steps, 0, 32, 10),
+  NUM("link_distance", SceneLines, link_distance, 0, 64, 2),
+  NUM("width_step", SceneLines, brush.width_step, 0, 500, 2),
+  NUM("max_width", SceneLines, brush.max_width, 0, 500, 7),
+  INT("sectors", SceneLines, brush.sectors, 1, 360, 28),
+  INT("bristles", SceneLines, brush.bristles, 1, 64, 7),
+  NUM("brush_aspect", SceneLines, brush.aspect, 0.05, 1, 0.5),
+  NUM("ink_load", SceneLines, brush.ink_load, 0, 1, 0.35),
+  NUM("dry_probability", SceneLines, brush.dry_probability, 0, 1, 0.39),
+  INT("dry_max_gap", SceneLines, brush.dry_max_gap, 0, 63, 4),
+  NUM("pressure", SceneLines, brush.pressure, 0.01, 1, 0.6),
 };
 
 static const Row object_rows[] = {
@@ -1325,6 +1337,19 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   return sh->kind == SHADE_INK ? check_ink(c, &sh->ink) : 0;
 }
 
+/* The brush's bristles together (sectors x bristles) against their limit,
+** reported at whichever of the two came last. */
+static int check_brush(Ctx *c, const BlockVal *b, const SceneBrush *br) {
+  long n = (long)br->sectors * br->bristles;
+  if (n <= SCENE_BRUSH_MAX_BRISTLES) return 0;
+  SrcRange at = b->loc;
+  for (int i = 0; i < b->nprops; i++)
+    if (!strcmp(b->props[i].name, "sectors") || !strcmp(b->props[i].name, "bristles")) at = b->props[i].loc;
+  ev_error(c->ev, at, "a brush of %d sectors x %d bristles holds %ld; the most is %d (sectors x bristles)",
+           br->sectors, br->bristles, n, SCENE_BRUSH_MAX_BRISTLES);
+  return -1;
+}
+
 static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
   Ctx sc = *c;
   sc.style = st;
@@ -1346,7 +1371,8 @@ static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
     apply_defaults(s, &st->lines);
     st->lines.present = 2;   /* set explicitly: 1 once checked */
     st->lines.loc = sub->loc;
-    return check_props(&sc, s, sub, &st->lines);
+    if (check_props(&sc, s, sub, &st->lines)) return -1;
+    return check_brush(&sc, sub, &st->lines.brush);
   }
   placeholder(c, sub->kind, NULL, kind_range(sub));
   int noise = strcmp(sub->kind, "noise") == 0;

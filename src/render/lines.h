@@ -5,6 +5,12 @@
 **   important edges (edges.c) -> reference image (edgeref.c)
 **     -> segments (trace.c) -> polylines (link.c) -> strokes (stroke.c)
 **
+** or, for the objects whose lines ask for it (`visibility endpoints`, the
+** default of brush strokes), the front end of 003 (silhouette.c):
+**
+**   important edges -> their visibility tested (edgeref.c) -> endpoint
+**     culling -> 2-pixel linking -> strokes (stroke.c; brush strokes in brush.c)
+**
 ** Every object occludes, and so does every origami sheet (its folded
 ** faces, from either side); objects whose style has lines { } draw strokes.
 ** One reference image serves all objects, at the largest ref_scale any of
@@ -28,9 +34,13 @@ typedef struct LineStats {
   int objects;             /* objects drawing lines */
   int important, visible;  /* important edges; those traced into segments */
   int segments, polylines, strokes;
+  long long brush_steps;   /* positions of the brush, a pixel apart, over all brush strokes */
+  int tested, whole, cut, dropped;   /* endpoint test (003): edges tested, kept whole,
+                                        bisected, hidden */
   int ref_width, ref_height;
   /* seconds per stage */
   double t_edges, t_ref, t_trace, t_link, t_build, t_draw;
+  double t_cull, t_chain;              /* endpoint front end */
 } LineStats;
 
 /* Find, trace, link and draw the lines of objs[0..nobj) seen by cam (the

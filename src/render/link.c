@@ -43,9 +43,7 @@ static void pt_push(PtBuf *b, float x, float y) {
   b->n++;
 }
 
-/* Append points [0, n) of p as one polyline of obj. */
-static void emit(Linker *L, const float *p, int n, int obj) {
-  LinePolys *o = L->out;
+void line_polys_append(LinePolys *o, const float *p, int n, int obj) {
   if (n < 2) return;
   o->pts = xgrow(o->pts, &o->cap_pts, 2 * (o->npts + n), sizeof *o->pts);
   memcpy(o->pts + 2 * o->npts, p, (size_t)n * 2 * sizeof *p);
@@ -57,6 +55,9 @@ static void emit(Linker *L, const float *p, int n, int obj) {
   o->npts += n;
   o->start[o->n] = o->npts;
 }
+
+/* Append points [0, n) of p as one polyline of obj. */
+static void emit(Linker *L, const float *p, int n, int obj) { line_polys_append(L->out, p, n, obj); }
 
 static void emit_seg(Linker *L, const LineSeg *s, int obj) {
   float p[4] = {s->x0, s->y0, s->x1, s->y1};

@@ -28,4 +28,8 @@ void line_link_build(LinePolys *out, const LineRef *ref, const LineTrace *tr,
                      const LineEdges *edges);
 void line_polys_free(LinePolys *p);
 
+/* Append points [0, n) of p (x, y pairs) as one polyline of object obj;
+** fewer than 2 points add nothing. */
+void line_polys_append(LinePolys *out, const float *p, int n, int obj);
+
 #endif

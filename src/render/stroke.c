@@ -215,6 +215,12 @@ static void stroke_box(Stroke *st) {
   st->box[0] -= pad; st->box[1] -= pad; st->box[2] += pad; st->box[3] += pad;
 }
 
+static void stroke_free(Stroke *st) {
+  free(st->pts); free(st->s); free(st->left); free(st->right);
+  brush_path_free(st->brush);
+  free(st->brush);
+}
+
 /* Copy polyline k of polys scaled to the output into st (close points
 ** merged); returns its length. */
 static double scaled_points(Stroke *st, const LinePolys *polys, int k, double sx, double sy) {
@@ -254,6 +260,75 @@ static double scaled_points(Stroke *st, const LinePolys *polys, int k, double sx
   return len;
 }
 
+/* The brush stroke along polyline k of polys, scaled to the output (003,
+** brush.h): the brush's steps become the points and its width profile the
+** outline. Returns the length of the control polyline, 0 when it has
+** none. */
+static double build_brush(Stroke *st, const LinePolys *polys, int k, double sx, double sy,
+                          const SceneBrush *b, const BrushBristles *br, Rng *r) {
+  int a = polys->start[k], n = polys->start[k + 1] - a;
+  float *c = xmalloc((size_t)n * 2 * sizeof *c);
+  double len = 0;
+  for (int i = 0; i < n; i++) {
+    c[2 * i] = (float)(polys->pts[2 * (a + i)] * sx);
+    c[2 * i + 1] = (float)(polys->pts[2 * (a + i) + 1] * sy);
+    if (i > 0) len += hypotf(c[2 * i] - c[2 * i - 2], c[2 * i + 1] - c[2 * i - 1]);
+  }
+  BrushPath *bp = xcalloc(1, sizeof *bp);
+  if (!brush_path_build(bp, c, n, b, br, r)) len = 0;
+  free(c);
+  if (len <= 0) { free(bp); return 0; }
+  st->brush = bp;
+  st->npts = bp->nsteps;
+  st->pts = xmalloc((size_t)bp->nsteps * 2 * sizeof *st->pts);
+  st->s = xmalloc((size_t)bp->nsteps * sizeof *st->s);
+  for (int i = 0; i < bp->nsteps; i++) {
+    st->pts[2 * i] = bp->x[i];
+    st->pts[2 * i + 1] = bp->y[i];
+    st->s[i] = bp->s[i];
+  }
+  st->left = xmalloc((size_t)bp->nsteps * 2 * sizeof *st->left);
+  st->right = xmalloc((size_t)bp->nsteps * 2 * sizeof *st->right);
+  brush_outline(bp, st->left, st->right);
+  st->width = (float)(2 * b->max_width);
+  return len;
+}
+
+/* The bristles of a brush of b's size, made once per list. */
+static const BrushBristles *bristles_get(StrokeList *sl, const SceneBrush *b) {
+  for (int i = 0; i < sl->nbrushes; i++)
+    if (sl->brushes[i]->sectors == b->sectors && sl->brushes[i]->bristles == b->bristles) return sl->brushes[i];
+  BrushBristles *bb = xmalloc(sizeof *bb);
+  brush_bristles_make(bb, b->sectors, b->bristles);
+  sl->brushes = xgrow(sl->brushes, &sl->cap_brushes, sl->nbrushes + 1, sizeof *sl->brushes);
+  sl->brushes[sl->nbrushes++] = bb;
+  return bb;
+}
+
+/* Polyline k of polys as a brush stroke of object o into sl (nothing when
+** it is too short). */
+static void add_brush(StrokeList *sl, const LinePolys *polys, int k, double sx, double sy,
+                      const LineObject *o, int number) {
+  const SceneLines *ls = o->lines;
+  Stroke st;
+  memset(&st, 0, sizeof st);
+  Rng r;
+  rng_seed_key(&r, LINE_STROKE_SEED, (uint32_t)o->id, (uint32_t)number);
+  double len = build_brush(&st, polys, k, sx, sy, &ls->brush, bristles_get(sl, &ls->brush), &r);
+  if (len <= 0 || len < ls->min_length || len < STROKE_MIN_PIXELS) {
+    stroke_free(&st);
+    return;
+  }
+  st.obj = polys->obj[k];
+  st.object_id = o->id;
+  st.kind = STROKE_BRUSH;
+  st.color = ls->color;
+  st.opacity = (float)clampf((float)ls->opacity, 0, 1);
+  stroke_box(&st);
+  sl->s = xgrow(sl->s, &sl->cap, sl->n + 1, sizeof *sl->s);
+  sl->s[sl->n++] = st;
+}
+
 int stroke_build(StrokeList **out, const LinePolys *polys, const LineObject *objs, double sx,
                  double sy, char *err, size_t errlen) {
   StrokeList *sl = xcalloc(1, sizeof *sl);
@@ -264,6 +339,10 @@ int stroke_build(StrokeList **out, const LinePolys *polys, const LineObject *obj
   for (int k = 0; k < polys->n; k++) {
     int o = polys->obj[k];
     const SceneLines *ls = objs[o].lines;
+    if (ls->stroke == STROKE_BRUSH) {
+      add_brush(sl, polys, k, sx, sy, &objs[o], made[o]++);
+      continue;
+    }
     Stroke st;
     memset(&st, 0, sizeof st);
     double len = scaled_points(&st, polys, k, sx, sy);
@@ -308,10 +387,10 @@ int stroke_build(StrokeList **out, const LinePolys *polys, const LineObject *obj
 
 void stroke_list_free(StrokeList *sl) {
   if (!sl) return;
-  for (int i = 0; i < sl->n; i++) {
-    free(sl->s[i].pts); free(sl->s[i].s); free(sl->s[i].left); free(sl->s[i].right);
-  }
+  for (int i = 0; i < sl->n; i++) stroke_free(&sl->s[i]);
   for (int i = 0; i < sl->ntex; i++) { image_destroy(sl->tex[i]); free(sl->tex_name[i]); }
+  for (int i = 0; i < sl->nbrushes; i++) { brush_bristles_free(sl->brushes[i]); free(sl->brushes[i]); }
+  free(sl->brushes);
   free(sl->s);
   free(sl->tex);
   free(sl->tex_name);
@@ -603,6 +682,8 @@ static void stroke_band(void *ctx, int band, int worker) {
     if (!band_clip(&b, st->box[0], st->box[1], st->box[2], st->box[3], &xa, &ya, &xb, &yb)) continue;
     if (st->kind == STROKE_PLAIN) {
       cover_plain(&b, st);
+    } else if (st->kind == STROKE_BRUSH) {
+      brush_cover(st->brush, b.cov, b.w, b.y0, b.y1, b.lo, b.hi);
     } else {
       Ink ink;
       ink_init(&ink, st->phase, st->s[st->npts - 1], st->width);

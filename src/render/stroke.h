@@ -6,7 +6,10 @@
 **           v[i+1] - v[i-1] (at an end, to its one segment), scaled at
 **           corners by the miter factor 1 / (r . n) capped by miter_limit,
 **           with a stroke texture mapped along the strip (u: arc length,
-**           v: across, 0 on the right side, 1 on the left).
+**           v: across, 0 on the right side, 1 on the left);
+**   brush   the Chinese brush of 003 (brush.h): the polyline's points are
+**           its control points; the stroke's points are the brush's steps
+**           and its outline the width profile (for the SVG).
 ** Textures: "ink" (the default, procedural: ink density drifting along the
 ** stroke, fibre streaks across it, softened ends), "solid", or an image file
 ** (its alpha where it has one, else 1 - luminance, is the ink; it repeats
@@ -21,6 +24,7 @@
 #include <stddef.h>
 
 #include "../io/image.h"
+#include "brush.h"
 #include "link.h"
 
 #define LINE_STROKE_SEED 0x53554D49ULL   /* "SUMI" */
@@ -31,10 +35,10 @@
 typedef struct Stroke {
   int obj;                 /* index into the LineObject array */
   int object_id;           /* LineObject.id */
-  StrokeKind kind;         /* STROKE_PLAIN or STROKE_RIBBON (brush draws as ribbon) */
+  StrokeKind kind;
   int npts;
   float *pts;              /* x, y pairs, output pixels */
-  float *left, *right;     /* ribbon: rib ends (x, y pairs); NULL for plain */
+  float *left, *right;     /* ribbon: rib ends (x, y pairs); brush: its outline; NULL for plain */
   float *s;                /* arc length at each point */
   int closed;              /* last point = first: ribs wrap around */
   float width;             /* output pixels */
@@ -44,6 +48,7 @@ typedef struct Stroke {
   int solid;               /* texture "solid" */
   float phase[4];          /* random phases of the procedural texture */
   float box[4];            /* x0, y0, x1, y1 covered (output pixels) */
+  BrushPath *brush;        /* brush: the brush's steps (pts are their centres), else NULL */
 } Stroke;
 
 typedef struct StrokeList {
@@ -52,6 +57,8 @@ typedef struct StrokeList {
   int ntex, cap_tex;
   Image **tex;             /* image textures, owned */
   char **tex_name;         /* their file names, owned */
+  int nbrushes, cap_brushes;
+  BrushBristles **brushes; /* the bristles of each brush size brush strokes use, owned */
 } StrokeList;
 
 /* Strokes from polys (reference pixels; sx, sy scale them to the output)

@@ -59,6 +59,10 @@ SceneStyle scene_default_style(void) {
   l->link_angle = 40;
   l->miter_limit = 4;
   l->min_length = 4;
+  l->cull_steps = 10;
+  l->link_distance = 2;
+  l->brush = (SceneBrush){.width_step = 2, .max_width = 7, .sectors = 28, .bristles = 7, .aspect = 0.5,
+                          .ink_load = 0.35, .dry_probability = 0.39, .dry_max_gap = 4, .pressure = 0.6};
   l->loc = src_none();
   st.loc = src_none();
   return st;

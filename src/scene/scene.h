@@ -181,6 +181,26 @@ typedef struct SceneShade {
 
 typedef enum { EDGE_SILHOUETTE = 1, EDGE_CREASE = 2, EDGE_BOUNDARY = 4, EDGE_FACE = 8 } EdgeKindBits;
 typedef enum { STROKE_PLAIN, STROKE_RIBBON, STROKE_BRUSH } StrokeKind;
+/* How visible edges are found and chained: auto (endpoints for brush
+** strokes, else reference), the reference image of 001 §2.1.2-2.1.5, or
+** the endpoint depth test and 2-px chaining of 003 ch. 2.5 and 3.3. */
+typedef enum { LINE_VIS_AUTO, LINE_VIS_REFERENCE, LINE_VIS_ENDPOINTS } LineVisibility;
+
+/* The Chinese brush of 003 ch. 3.4-4.6 (stroke brush). Lengths are output
+** pixels. */
+/* Most bristles a brush holds (sectors x bristles): the dry brush keeps a
+** byte per bristle and pixel of a stroke, 4 KiB a pixel at this size. */
+#define SCENE_BRUSH_MAX_BRISTLES 4096
+typedef struct SceneBrush {
+  double width_step, max_width;  /* width profile: half-width grows by width_step a
+                                    control point up to max_width */
+  int sectors, bristles;         /* bristles in polar position: sectors x bristles a radius */
+  double aspect;                 /* contact ellipse: short axis (along) / long axis (across) */
+  double ink_load;               /* ink a bristle deposits per pixel it travels, 0..1 */
+  double dry_probability;        /* chance a bristle out of a gap starts a new one */
+  int dry_max_gap;               /* a new gap lasts 0..dry_max_gap steps */
+  double pressure;               /* brush pressure on a straight run; turns press up to 1 */
+} SceneBrush;
 
 typedef struct SceneLines {
   int present;
@@ -194,8 +214,18 @@ typedef struct SceneLines {
   double ref_scale;
   int search_width, max_misses, link_depth;
   double link_angle, miter_limit, min_length, depth_offset;
+  LineVisibility visibility;
+  int cull_steps;             /* endpoints: most bisection steps toward the visible end */
+  double link_distance;       /* endpoints: chain ends this close (output pixels) */
+  SceneBrush brush;
   SrcRange loc;
 } SceneLines;
+
+/* Does l find its edges by the endpoint test (003) rather than the
+** reference image (001)? `visibility auto` picks it for brush strokes. */
+static inline int scene_lines_endpoints(const SceneLines *l) {
+  return l->visibility == LINE_VIS_ENDPOINTS || (l->visibility == LINE_VIS_AUTO && l->stroke == STROKE_BRUSH);
+}
 
 /* A property of a pass that has no field of its own (threshold, bokashi,
 ** ink, noise, pattern): the schema checked its name and type; the renderer
