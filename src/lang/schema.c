@@ -1337,9 +1337,16 @@ static int fill_shade(Ctx *c, SceneStyle *st, const BlockVal *b) {
   return sh->kind == SHADE_INK ? check_ink(c, &sh->ink) : 0;
 }
 
-/* The brush's bristles together (sectors x bristles) against their limit,
-** reported at whichever of the two came last. */
-static int check_brush(Ctx *c, const BlockVal *b, const SceneBrush *br) {
+/* A brush's lines: its bristles together (sectors x bristles) against
+** their limit, reported at whichever of the two came last; and `width`,
+** which a brush stroke does not read (its half-width is max_width), warned
+** about where it is written. */
+static int check_brush(Ctx *c, const BlockVal *b, const SceneLines *ls) {
+  const SceneBrush *br = &ls->brush;
+  for (int i = 0; ls->stroke == STROKE_BRUSH && i < b->nprops; i++)
+    if (!strcmp(b->props[i].name, "width"))
+      diag_warning(name_range(&b->props[i]), "`width` does not apply to `stroke brush`: its strokes grow by "
+                   "`width_step` a control point up to a half-width of `max_width` (%g)", br->max_width);
   long n = (long)br->sectors * br->bristles;
   if (n <= SCENE_BRUSH_MAX_BRISTLES) return 0;
   SrcRange at = b->loc;
@@ -1372,7 +1379,7 @@ static int fill_sub(Ctx *c, SceneStyle *st, const BlockVal *sub) {
     st->lines.present = 2;   /* set explicitly: 1 once checked */
     st->lines.loc = sub->loc;
     if (check_props(&sc, s, sub, &st->lines)) return -1;
-    return check_brush(&sc, sub, &st->lines.brush);
+    return check_brush(&sc, sub, &st->lines);
   }
   placeholder(c, sub->kind, NULL, kind_range(sub));
   int noise = strcmp(sub->kind, "noise") == 0;
