@@ -70,8 +70,10 @@ static inline void hatch_bright_ends(float t, float y, float *lo, float *hi) {
   float c = 1 / (1 + t), a = 0.5f - 0.5f * t, b = 0.5f + 0.5f * t, yc = y * (1 + t);
   float z = y < c * a ? yc : y < c * (a + 2 * t) ? a + (yc - a) * 0.5f : b + (yc - a - 2 * t);
   float l = z * c, h = (z + t) * c;
-  *lo = l > 0 ? (l < 0.5f ? l : 0.5f) : 0;
-  *hi = h > 0.5f ? (h < 1 ? h : 1) : 0.5f;
+  l = l > 0 ? l : 0;
+  h = h > 0.5f ? h : 0.5f;
+  *lo = l < 0.5f ? l : 0.5f;
+  *hi = h < 1 ? h : 1;
 }
 
 /* The bright length of [0, x): floor(x) y plus the last period's part. */
@@ -96,7 +98,8 @@ static inline float hatch_coverage(float x, float fw, float t, float y) {
   r = fw > 16 ? y : r;
   r = y > 0 ? r : 0;
   r = y < 1 ? r : 1;
-  return r > 0 ? (r < 1 ? r : 1) : 0;
+  r = r > 0 ? r : 0;   /* one select each: a nested one keeps the loop out of SIMD lanes */
+  return r < 1 ? r : 1;
 }
 
 /* The uniform multi-scale dot threshold at cell coordinates (a, b)

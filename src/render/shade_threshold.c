@@ -146,8 +146,9 @@ int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
   texcoord_view(&view, &f->camera);
   int n = o->mesh->ntris;
   o->texcoords = xmalloc(((size_t)n + 1) * sizeof *o->texcoords);
-  for (int t = 0; t < n; t++)
-    texcoord_triangle(&o->texcoords[t], o, t, projection, o->style->layers->inv_scale, &view);
+  for (int t = 0; t < n; t++)   /* a back face the rasterizer skips is never shaded */
+    if (!(o->cull_back && o->backfacing[t]))
+      texcoord_triangle(&o->texcoords[t], o, t, projection, o->style->layers->inv_scale, &view);
   return 1;
 }
 
@@ -167,27 +168,36 @@ int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
 ** each layer found (a[0..2] for lines: position in the period, footprint,
 ** blend; else thresholds a[0..nq-1] and their weights a[MAX_TAPS..]). */
 typedef struct Block {
-  int n;
+  int n;                       /* samples */
+  int n4;                      /* n rounded up to SIMD lanes: the side-by-side loops run to it
+                                  over copies of the last sample, with no scalar tail */
   float u[BLOCK], v[BLOCK], ux[BLOCK], uy[BLOCK], vx[BLOCK], vy[BLOCK];
   float nv[BLOCK];
   float a[SCENE_MAX_LAYERS][2 * MAX_TAPS][BLOCK];
   int nq[SCENE_MAX_LAYERS];
 } Block;
 
-/* The coordinates of samples k0..k0+n-1 of r (object o) into b. */
+/* The coordinates of samples k0..k0+n-1 of r (object o) into b, a run of
+** one triangle at a time (its constants held while the run's samples go
+** side by side). */
 static void block_coords(Block *b, const ShadeRow *r, const RenderObject *o, const TexView *view,
                          int k0, int n) {
-  for (int j = 0; j < n; j++) {
+  for (int j = 0, e; j < n; j = e) {
+    int face = r->face[k0 + j];
+    for (e = j + 1; e < n && r->face[k0 + e] == face; e++) {}
     int k = k0 + j;
-    const TexTriangle *tt = &o->texcoords[r->face[k]];
-    float p[3] = {r->px[k], r->py[k], r->pz[k]}, uv[2], d[4];
-    texcoord_sample(tt, view, r->bary[k][0], r->bary[k][1], p, uv, d);
-    b->u[j] = uv[0]; b->v[j] = uv[1];
-    b->ux[j] = d[0]; b->uy[j] = d[1]; b->vx[j] = d[2]; b->vy[j] = d[3];
+    texcoord_run(&o->texcoords[face], view, e - j, r->bary + k, r->px + k, r->py + k, r->pz + k,
+                 b->u + j, b->v + j, b->ux + j, b->uy + j, b->vx + j, b->vy + j);
   }
+  b->n4 = (n + 3) & ~3;
+  for (int j = n; j < b->n4; j++) {   /* the padding lanes: copies of the last sample */
+    b->u[j] = b->u[n - 1]; b->v[j] = b->v[n - 1];
+    b->ux[j] = b->ux[n - 1]; b->uy[j] = b->uy[n - 1]; b->vx[j] = b->vx[n - 1]; b->vy[j] = b->vy[n - 1];
+  }
+  /* the row's planes hold SHADE_LANES spare samples past any run */
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
-  for (int j = 0; j < n; j++) {
+  for (int j = 0; j < b->n4; j++) {
     float nv = nx[j] * vx[j] + ny[j] * vy[j] + nz[j] * vz[j];
     b->nv[j] = nv > 0 ? nv : 0;
   }
@@ -205,8 +215,11 @@ static inline float noise_shift(const Layer *L, const Block *b, int j, uint32_t 
 static void hatch_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK]) {
   float cs = L->cs, sn = L->sn, w = L->spacing, k = filter ? inv_n : 0;
   float shift[BLOCK];
-  for (int j = 0; j < b->n; j++) shift[j] = L->noise > 0 ? noise_shift(L, b, j, 0) * w : 0;
-  for (int j = 0; j < b->n; j++) {
+  if (L->noise > 0)
+    for (int j = 0; j < b->n4; j++) shift[j] = noise_shift(L, b, j, 0) * w;
+  else
+    for (int j = 0; j < b->n4; j++) shift[j] = 0;
+  for (int j = 0; j < b->n4; j++) {
     float h = -sn * b->u[j] + cs * b->v[j];
     float hx = -sn * b->ux[j] + cs * b->vx[j], hy = -sn * b->uy[j] + cs * b->vy[j];
     float g = sqrtf(hx * hx + hy * hy), m, t;
@@ -318,24 +331,48 @@ static float curve_at(const double *c, int n, float x) {
   return (float)(c[i] + (p - (float)i) * (c[i + 1] - c[i]));
 }
 
-/* Multiply bright[j0..j1) by layer i's bright fraction for the band
-** positions y (P(t <= y') over the footprint, y' = y in the layer's range). */
-__attribute__((noinline)) static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const float *y,
-                         float *bright, int j0, int j1) {
-  const Layer *L = &ts->layers[i];
-  const float(*a)[BLOCK] = b->a[i];
-  float lo = L->lo, inv = L->inv_span;
-  if (L->kind == LAYER_HATCH) {
-    for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage(a[0][j], a[1][j], a[2][j], (y[j] - lo) * inv);
-    return;
-  }
-  int nq = b->nq[i];
+/* bright[j] times the lines' bright fraction at band positions y[j] in a
+** layer's range (lo, inv): apart, so its loop runs in SIMD lanes. */
+__attribute__((noinline)) static void hatch_bright(const float *restrict x, const float *restrict fw,
+                                                   const float *restrict t, const float *restrict y,
+                                                   float lo, float inv, float *restrict bright, int j0,
+                                                   int j1) {
+  for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage(x[j], fw[j], t[j], (y[j] - lo) * inv);
+}
+
+/* The same for a layer of nq weighted thresholds a[0..nq-1] (weights
+** a[MAX_TAPS..]): the weights of those met. */
+static void taps_bright(const float (*a)[BLOCK], int nq, const float *y, float lo, float inv,
+                        float *bright, int j0, int j1) {
   for (int j = j0; j < j1; j++) {
     float yl = (y[j] - lo) * inv, c = 0;
     for (int q = 0; q < nq; q++) c += a[q][j] <= yl ? a[MAX_TAPS + q][j] : 0;
     c = yl > 0 ? c : 0;   /* below the range: solid */
     bright[j] *= yl < 1 ? c : 1;
   }
+}
+
+/* Multiply bright[j0..j1) by layer i's bright fraction for the band
+** positions y (P(t <= y') over the footprint, y' = y in the layer's range),
+** unless every sample is above its range (no ink) or below it (solid). */
+static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const float *y,
+                         float *bright, int j0, int j1) {
+  const Layer *L = &ts->layers[i];
+  float lo = L->lo, inv = L->inv_span;
+  int in_range = 0, above = 0;   /* counts, so the loop runs side by side */
+  for (int j = j0; j < j1; j++) {
+    float yl = (y[j] - lo) * inv;
+    above += yl > 0;
+    in_range += (yl > 0) & (yl < 1);
+  }
+  if (above == j1 - j0 && !in_range) return;   /* every sample above the range: no ink */
+  if (!above) {                                /* every one below it: solid */
+    for (int j = j0; j < j1; j++) bright[j] = 0;
+    return;
+  }
+  const float(*a)[BLOCK] = b->a[i];
+  if (L->kind == LAYER_HATCH) hatch_bright(a[0], a[1], a[2], y, lo, inv, bright, j0, j1);
+  else taps_bright(a, b->nq[i], y, lo, inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
 }
 
 /* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
@@ -425,25 +462,28 @@ static void ramp_sample(const ShadeSample *s, const RenderStyle *st, const Block
 }
 
 /* The smooth specular term of samples k0..k0+n-1 of r lit from l*: f_s =
-** (n.h / |h|)^shininess where n.l > 0, else 0; the power only where it can
-** reach 2^-24 (below that it changes no colour). any: whether one does. */
-static int specular_block(const ShadeRow *r, const RenderStyle *st, int k0, int n, const float *lx,
-                          const float *ly, const float *lz, const float *nl, float *fs) {
+** (n.h / |h|)^shininess where n.l > 0 and it reaches 2^-12, else 0 (a
+** term under 2^-12, thresholded or not, moves no colour by a tenth of an
+** 8-bit step). The samples where it may
+** not be 0 lie in [*j0, *j1) (empty: none). */
+static void specular_block(const ShadeRow *r, const RenderStyle *st, int k0, int n, const float *lx,
+                           const float *ly, const float *lz, const float *nl, float *fs, int *j0,
+                           int *j1) {
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
-  float cut = powf(0x1p-24f, 1 / st->shininess), cut2 = cut * cut;
-  int any = 0;
+  float cut = powf(0x1p-12f, 1 / st->shininess), cut2 = cut * cut;
   for (int j = 0; j < n; j++) {
     float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];
     float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
     int lit = !(nl[j] <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
     fs[j] = lit ? nh / sqrtf(hh) : 0;
-    any |= lit;
   }
-  if (any)
-    for (int j = 0; j < n; j++)
-      if (fs[j] > 0) fs[j] = powf(fs[j], st->shininess);
-  return any;
+  *j0 = 0;
+  while (*j0 < n && fs[*j0] == 0) ++*j0;
+  *j1 = n;
+  while (*j1 > *j0 && fs[*j1 - 1] == 0) --*j1;
+  for (int j = *j0; j < *j1; j++)
+    if (fs[j] > 0) fs[j] = powf(fs[j], st->shininess);
 }
 
 /* Unit vectors toward light lt from samples k0..k0+n-1 of r, and the
@@ -466,7 +506,7 @@ static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b
                         float *G, float *B) {
   const ThresholdStyle *ts = st->layers;
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0, *base = st->base;
-  int n = b->n;
+  int n = b->n4;   /* the padding lanes too: whole SIMD groups */
   float lx[BLOCK], ly[BLOCK], lz[BLOCK], fall[BLOCK], nl[BLOCK], td[BLOCK], fs[BLOCK], tsp[BLOCK];
   for (int j = 0; j < n; j++) {
     R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
@@ -480,10 +520,14 @@ static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b
       td[j] = d > 0 ? d : 0;
     }
     textured_step(ts, b, TERM_DIFFUSE_BIT, td, st->bands_n, st->inv_bands_n, st->threshold, td, 0, n);
-    int lit = st->specular > 0 && specular_block(r, st, k0, n, lx, ly, lz, nl, fs);
-    if (lit) textured_step(ts, b, TERM_SPECULAR_BIT, fs, st->spec_n, st->inv_spec_n, st->spec_threshold, tsp, 0, n);
+    int s0 = 0, s1 = 0;   /* the samples a highlight may reach, in whole SIMD groups */
+    if (st->specular > 0) specular_block(r, st, k0, n, lx, ly, lz, nl, fs, &s0, &s1);
+    s0 &= ~3;
+    s1 = (s1 + 3) & ~3;
+    for (int j = 0; j < n; j++) tsp[j] = 0;
+    if (s0 < s1) textured_step(ts, b, TERM_SPECULAR_BIT, fs, st->spec_n, st->inv_spec_n, st->spec_threshold, tsp, s0, s1);
     for (int j = 0; j < n; j++) {
-      float spec = lit ? st->specular * tsp[j] : 0;
+      float spec = st->specular * tsp[j];
       float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
       R[j] += (base[0] * td[j] + spec) * c0;
       G[j] += (base[1] * td[j] + spec) * c1;

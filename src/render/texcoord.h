@@ -62,28 +62,51 @@ void texcoord_triangle(TexTriangle *tt, const RenderObject *o, int face, int pro
 ** else box. */
 int texcoord_resolve(const RenderObject *o, int projection);
 
-/* The coordinates at barycentrics (b1, b2) of tt, world point p (on its
-** plane), into uv[2], and their derivatives per output pixel into
-** d[4] = (du/dx, du/dy, dv/dx, dv/dy). An edge-on triangle gives huge
-** derivatives (capped at TEXCOORD_MAX_RATE a pixel). */
+/* Derivatives past this many texture units a pixel are capped (an edge-on
+** triangle would give infinities). */
 #define TEXCOORD_MAX_RATE 1e6f
-static inline void texcoord_sample(const TexTriangle *tt, const TexView *v, float b1, float b2,
-                                   const float p[3], float uv[2], float d[4]) {
-  float du = b1 * tt->d1[0] + b2 * tt->d2[0], dv = b1 * tt->d1[1] + b2 * tt->d2[1];
-  uv[0] = tt->t0[0] + du;
-  uv[1] = tt->t0[1] + dv;
-  float depth = 1, gq0 = tt->gq[0], gq1 = tt->gq[1];   /* ortho: G f, constant */
-  if (!v->ortho) {   /* G q at p: affine over the triangle */
-    gq0 += du;
-    gq1 += dv;
-    depth = (p[0] - v->eye[0]) * v->fwd[0] + (p[1] - v->eye[1]) * v->fwd[1] +
-            (p[2] - v->eye[2]) * v->fwd[2];
-  }
+
+static inline float texcoord_cap(float r) {
+  r = r < TEXCOORD_MAX_RATE ? r : TEXCOORD_MAX_RATE;
+  return r > -TEXCOORD_MAX_RATE ? r : -TEXCOORD_MAX_RATE;
+}
+
+/* The coordinates of n samples of triangle tt at barycentrics bary[i] and
+** world points (px, py, pz)[i] (on its plane) into (u, v)[i], and their
+** derivatives per output pixel into ux = du/dx, uy = du/dy, vx, vy. One
+** loop a camera kind, the triangle's constants held, so the samples run
+** side by side. */
+static inline void texcoord_run(const TexTriangle *tt, const TexView *v, int n, const float (*bary)[2],
+                                const float *restrict px, const float *restrict py,
+                                const float *restrict pz, float *restrict u, float *restrict w,
+                                float *restrict ux, float *restrict uy, float *restrict vx,
+                                float *restrict vy) {
   float kx = tt->nx * tt->inv_qn, ky = tt->ny * tt->inv_qn;
-  float r[4] = {depth * (tt->gx[0] - gq0 * kx), depth * (tt->gy[0] - gq0 * ky),
-                depth * (tt->gx[1] - gq1 * kx), depth * (tt->gy[1] - gq1 * ky)};
-  for (int k = 0; k < 4; k++)
-    d[k] = r[k] > TEXCOORD_MAX_RATE ? TEXCOORD_MAX_RATE : r[k] < -TEXCOORD_MAX_RATE ? -TEXCOORD_MAX_RATE : r[k];
+  if (v->ortho) {   /* depth 1, and G q is the constant G f */
+    float rx0 = tt->gx[0] - tt->gq[0] * kx, ry0 = tt->gy[0] - tt->gq[0] * ky;
+    float rx1 = tt->gx[1] - tt->gq[1] * kx, ry1 = tt->gy[1] - tt->gq[1] * ky;
+    for (int i = 0; i < n; i++) {
+      float b1 = bary[i][0], b2 = bary[i][1];
+      u[i] = tt->t0[0] + b1 * tt->d1[0] + b2 * tt->d2[0];
+      w[i] = tt->t0[1] + b1 * tt->d1[1] + b2 * tt->d2[1];
+      ux[i] = texcoord_cap(rx0); uy[i] = texcoord_cap(ry0);
+      vx[i] = texcoord_cap(rx1); vy[i] = texcoord_cap(ry1);
+    }
+    return;
+  }
+  for (int i = 0; i < n; i++) {
+    float b1 = bary[i][0], b2 = bary[i][1];
+    float du = b1 * tt->d1[0] + b2 * tt->d2[0], dv = b1 * tt->d1[1] + b2 * tt->d2[1];
+    u[i] = tt->t0[0] + du;
+    w[i] = tt->t0[1] + dv;
+    float gq0 = tt->gq[0] + du, gq1 = tt->gq[1] + dv;   /* G q at p: affine over the triangle */
+    float depth = (px[i] - v->eye[0]) * v->fwd[0] + (py[i] - v->eye[1]) * v->fwd[1] +
+                  (pz[i] - v->eye[2]) * v->fwd[2];
+    ux[i] = texcoord_cap(depth * (tt->gx[0] - gq0 * kx));
+    uy[i] = texcoord_cap(depth * (tt->gy[0] - gq0 * ky));
+    vx[i] = texcoord_cap(depth * (tt->gx[1] - gq1 * kx));
+    vy[i] = texcoord_cap(depth * (tt->gy[1] - gq1 * ky));
+  }
 }
 
 #endif
