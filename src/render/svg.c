@@ -46,6 +46,25 @@ static void write_stroke(FILE *f, const Stroke *st) {
 
 /* ---- the document --------------------------------------------------------- */
 
+/* Background pixels this close to origami are its margin (svg_trace.h):
+** its Sobel lines reach off the paper, and its faces' strokes draw them. */
+#define ORIGAMI_MARGIN 3
+
+static void origami_margin(SvgFrame *fr) {
+  size_t np = (size_t)fr->w * fr->h;
+  unsigned char *near = xcalloc(np, 1);
+  int r = ORIGAMI_MARGIN;
+  for (size_t p = 0; p < np; p++) {
+    if (fr->owner[p] != SVG_OWNER_ORIGAMI) continue;
+    int x = (int)(p % fr->w), y = (int)(p / fr->w);
+    for (int yy = y - r < 0 ? 0 : y - r; yy <= y + r && yy < fr->h; yy++)
+      for (int xx = x - r < 0 ? 0 : x - r; xx <= x + r && xx < fr->w; xx++) near[(size_t)yy * fr->w + xx] = 1;
+  }
+  for (size_t p = 0; p < np; p++)
+    if (near[p] && fr->owner[p] == -1) fr->owner[p] = SVG_OWNER_MARGIN;
+  free(near);
+}
+
 /* The frame as the tracer sees it: out's colour as sRGB codes with alpha,
 ** and each output pixel's owner and depth from the sample at its centre. */
 static SvgFrame frame_of(const Image *out, const GBuffer *g, int nobjects) {
@@ -67,6 +86,7 @@ static SvgFrame frame_of(const Image *out, const GBuffer *g, int nobjects) {
   }
   fr.rgba = rgba;
   free(codes);
+  origami_margin(&fr);
   return fr;
 }
 

@@ -271,49 +271,70 @@ static void paint_layer(FILE *f, const SvgFrame *fr, const int32_t *rank, int L,
   svg_trace_fill(f, mask, w, b, 1.0, rgb, "");
 }
 
+/* The group pixel p is painted in: its object, nobjects for the
+** background, -1 for origami (painted by svg_origami.h). */
+static int group_of(const SvgFrame *fr, size_t p) {
+  int o = fr->owner[p];
+  return o >= 0 && o < fr->nobjects ? o : o == -1 ? fr->nobjects : -1;
+}
+
+/* Whether the background group (pixels sel, n of them, in ncls classes)
+** needs layers: not when it is one colour (the background rectangle is)
+** or transparent. */
+static int background_drawn(const SvgFrame *fr, const int *sel, int n, int ncls) {
+  long alpha = 0;
+  for (int k = 0; k < n; k++) alpha += fr->rgba[(size_t)sel[k] * 4 + 3];
+  return ncls > 1 && alpha >= 128L * n;
+}
+
 void svg_write_regions(FILE *f, const SvgFrame *fr) {
-  int w = fr->w, h = fr->h, no = fr->nobjects;
+  int w = fr->w, h = fr->h, no = fr->nobjects, ng = no + 1;   /* groups: the objects, then the background */
   size_t np = (size_t)w * h;
-  /* each object's pixels, gathered by a counting sort on the owner */
-  int *start = xcalloc((size_t)no + 1, sizeof *start), *pix = xmalloc((np + 1) * sizeof *pix);
-  ObjOrder *ord = xcalloc((size_t)no + 1, sizeof *ord);
-  for (size_t p = 0; p < np; p++)
-    if (fr->owner[p] >= 0 && fr->owner[p] < no) start[fr->owner[p] + 1]++, ord[fr->owner[p]].depth += fr->depth[p];
-  for (int o = 0; o < no; o++) {
-    ord[o].obj = o;
-    ord[o].depth = start[o + 1] ? ord[o].depth / start[o + 1] : 0;
-    start[o + 1] += start[o];
+  /* each group's pixels, gathered by a counting sort */
+  int *start = xcalloc((size_t)ng + 1, sizeof *start), *pix = xmalloc((np + 1) * sizeof *pix);
+  ObjOrder *ord = xcalloc((size_t)ng, sizeof *ord);
+  for (size_t p = 0; p < np; p++) {
+    int g = group_of(fr, p);
+    if (g >= 0) start[g + 1]++, ord[g].depth += fr->depth[p];
   }
-  int *fill = xmalloc(((size_t)no + 1) * sizeof *fill);
-  memcpy(fill, start, (size_t)no * sizeof *fill);
-  for (size_t p = 0; p < np; p++)
-    if (fr->owner[p] >= 0 && fr->owner[p] < no) pix[fill[fr->owner[p]]++] = (int)p;
-  qsort(ord, (size_t)no, sizeof *ord, far_first);
-  /* every pixel's layer: objects in painting order, each one's classes dark to light */
+  for (int g = 0; g < ng; g++) {
+    ord[g].obj = g;
+    ord[g].depth = g == no ? INFINITY : start[g + 1] ? ord[g].depth / start[g + 1] : 0;   /* the background first */
+    start[g + 1] += start[g];
+  }
+  int *fill = xmalloc((size_t)ng * sizeof *fill);
+  memcpy(fill, start, (size_t)ng * sizeof *fill);
+  for (size_t p = 0; p < np; p++) {
+    int g = group_of(fr, p);
+    if (g >= 0) pix[fill[g]++] = (int)p;
+  }
+  qsort(ord, (size_t)ng, sizeof *ord, far_first);
+  /* every pixel's layer: groups in painting order, each one's classes dark to light */
   int32_t *rank = xmalloc(np * sizeof *rank);
   for (size_t p = 0; p < np; p++) rank[p] = fr->owner[p] == SVG_OWNER_ORIGAMI ? INT32_MAX : -1;
   int *cls = xmalloc((np + 1) * sizeof *cls);
-  uint8_t (*rgb)[SVG_MAX_CLASSES * 3] = xmalloc(((size_t)no + 1) * sizeof *rgb);
-  int *ncls = xcalloc((size_t)no + 1, sizeof *ncls), *base = xcalloc((size_t)no + 1, sizeof *base);
+  uint8_t (*rgb)[SVG_MAX_CLASSES * 3] = xmalloc((size_t)ng * sizeof *rgb);
+  int *ncls = xcalloc((size_t)ng, sizeof *ncls), *base = xcalloc((size_t)ng, sizeof *base);
   int layers = 0;
-  for (int i = 0; i < no; i++) {
-    int o = ord[i].obj, n = start[o + 1] - start[o];
+  for (int i = 0; i < ng; i++) {
+    int g = ord[i].obj, n = start[g + 1] - start[g];
     if (n == 0) continue;
-    svg_classes(fr, pix + start[o], n, cls + start[o], &ncls[o], rgb[o]);
-    base[o] = layers;
-    for (int k = 0; k < n; k++) rank[pix[start[o] + k]] = layers + cls[start[o] + k];
-    layers += ncls[o];
+    svg_classes(fr, pix + start[g], n, cls + start[g], &ncls[g], rgb[g]);
+    if (g == no && !background_drawn(fr, pix + start[g], n, ncls[g])) { ncls[g] = 0; continue; }
+    base[g] = layers;
+    for (int k = 0; k < n; k++) rank[pix[start[g] + k]] = layers + cls[start[g] + k];
+    layers += ncls[g];
   }
   /* paint them: each class's pixels, in a list of its own */
   unsigned char *mask = xcalloc(np, 1);
   int *own = xmalloc((np + 1) * sizeof *own);
-  for (int i = 0; i < no; i++) {
-    int o = ord[i].obj, n = start[o + 1] - start[o];
-    for (int c = 0; c < ncls[o]; c++) {
+  for (int i = 0; i < ng; i++) {
+    int g = ord[i].obj, n = start[g + 1] - start[g];
+    for (int c = 0; c < ncls[g]; c++) {
       int m = 0;
       for (int k = 0; k < n; k++)
-        if (cls[start[o] + k] == c) own[m++] = pix[start[o] + k];
-      paint_layer(f, fr, rank, base[o] + c, own, m, rgb[o] + 3 * c, mask);
+        if (cls[start[g] + k] == c) own[m++] = pix[start[g] + k];
+      paint_layer(f, fr, rank, base[g] + c, own, m, rgb[g] + 3 * c, mask);
     }
   }
   free(own);

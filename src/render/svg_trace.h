@@ -34,13 +34,17 @@ typedef struct SvgBox { int x0, y0, x1, y1; } SvgBox;
 typedef struct SvgFrame {
   int w, h;
   const uint8_t *rgba;   /* w * h * 4: sRGB colour codes and alpha, before strokes */
-  int32_t *owner;        /* per pixel: object index, SVG_OWNER_ORIGAMI, or -1 (background) */
+  int32_t *owner;        /* per pixel: object index, SVG_OWNER_ORIGAMI, SVG_OWNER_MARGIN, or -1
+                            (background) */
   float *depth;          /* per pixel window depth (camera.h), for the painting order */
   int nobjects;
   int samples;           /* the render's N of `samples N` (origami line widths depend on it) */
 } SvgFrame;
 
 #define SVG_OWNER_ORIGAMI INT32_MAX
+/* Background just off an origami sheet, where its lines reach: in no
+** region (the sheet's strokes draw what is there). */
+#define SVG_OWNER_MARGIN (INT32_MAX - 1)
 
 /* Write the path data of the outline of the pixels of box where mask
 ** (frame width w, 1 = inside) is set to f: "M… C… L… Z" per closed curve,
@@ -58,8 +62,10 @@ void svg_trace_fill(FILE *f, const unsigned char *mask, int w, SvgBox box, doubl
 /* The mesh objects' regions of fr, one layer per object and colour class:
 ** objects far to near (by their pixels' mean depth), each one's classes
 ** (the colours its pixels cluster into: toon bands, specular spots,
-** posterised gradients) dark to light. Pixels of SVG_OWNER_ORIGAMI count
-** as painted later (the origami goes over the meshes, svg_origami.h). */
+** posterised gradients) dark to light. A background of more than one
+** colour (a paper sheet) is traced the same way, first. Pixels of
+** SVG_OWNER_ORIGAMI count as painted later (the origami goes over the
+** meshes, svg_origami.h). */
 void svg_write_regions(FILE *f, const SvgFrame *fr);
 
 /* The colour classes of a set of pixels: sel holds n pixel indices of

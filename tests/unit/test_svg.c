@@ -195,7 +195,8 @@ TEST(layers_reach_under_later_ones) {
     int x = p % W, near = x >= 24;
     owner[p] = x < 4 || x >= 44 ? -1 : near;
     depth[p] = near ? 0.3f : 0.6f;
-    if (near) put(p, 200, 50, 40);
+    if (owner[p] < 0) put(p, 255, 255, 255);   /* a flat background: the rectangle, no layer */
+    else if (near) put(p, 200, 50, 40);
     else put(p, 40, 80, 160);
   }
   FILE *f = tmpfile();
