@@ -232,16 +232,25 @@ typedef struct MeshCase { const char *file, *transform, *camera; } MeshCase;
 static const MeshCase MESHES[] = {
   {"OBJ/spider.obj", "scale(0.03) * rotate([90, 0, 0])", "position [0, -6, 3]; look_at [0, 0, 0]; fov 40;"},
   {"OBJ/WusonOBJ.obj", "rotate([90, 0, -30])", ""},
-  {"PLY/cube.ply", "rotate([10, 20, 30])", ""},
-  {"3DS/cubes_with_alpha.3DS", "scale(1)", ""},
-  {"ASE/ThreeCubesGreen.ASE", "scale(1)", ""},
-  {"FBX/cubes_with_names.fbx", "scale(1)", ""},
-  {"BLEND/NoisyTexturedCube_VoronoiGlob_248.blend", "rotate([10, 20, 30])", ""},
-  {"Collada/sphere.dae", "scale(1)", ""},
+  /* every closed mesh that imports, one file per model where a model comes
+  ** in several formats of the same mesh, turned off its axes */
+  {"3DS/RotatingCube.3DS", "rotate([10, 20, 30])", ""},
+  {"3DS/cubes_with_alpha.3DS", "rotate([10, 20, 30])", ""},
   {"AC/SphereWithLight.ac", "scale(1)", ""},
+  {"AC/SphereWithLight_UTF8BOM.ac", "scale(1)", ""},
+  {"ASE/ThreeCubesGreen.ASE", "rotate([10, 20, 30])", ""},
+  {"BLEND/4Cubes4Mats_248.blend", "rotate([10, 20, 30])", ""},
+  {"BLEND/NoisyTexturedCube_VoronoiGlob_248.blend", "rotate([10, 20, 30])", ""},
+  {"BLEND/SmoothVsSolidCube_248.blend", "rotate([10, 20, 30])", ""},
+  {"Collada/sphere.dae", "scale(1)", ""},
+  {"FBX/cubes_with_names.fbx", "rotate([10, 20, 30])", ""},
   {"LWO/LWO2/sphere_with_gradient.lwo", "scale(1)", ""},
+  {"MD5/SimpleCube.md5mesh", "rotate([10, 20, 30])", ""},
   {"MS3D/twospheres.ms3d", "scale(1)", ""},
   {"NFF/NFF/spheres.nff", "scale(1)", ""},
+  {"OFF/Cube.off", "rotate([10, 20, 30])", ""},
+  {"PLY/cube.ply", "rotate([10, 20, 30])", ""},
+  {"glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf", "rotate([10, 20, 30])", ""},
 };
 
 TEST(assimp_meshes) {
