@@ -493,6 +493,18 @@ TEST(pseudo_shading) {
   origami_free(m);
 }
 
+/* m drawn in line mode into a new w x h RGBA buffer viewed by c (free it). */
+static float *line_mode(const OrigamiModel *m, Mat4 c, int w, int h) {
+  float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba);
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.shade.kind = SHADE_ORIGAMI;
+  st.shade.origami_mode = 0;
+  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  origami_render(m, &st, &c, NULL, &t);
+  return rgba;
+}
+
 TEST(line_mode_marks_face_changes) {
   Paper p;
   three_cycle(&p);
@@ -500,14 +512,7 @@ TEST(line_mode_marks_face_changes) {
   errors_of(&p, 0, &m);
   if (!m) { CHECK(m != NULL); return; }
   int w = 60, h = 60;
-  float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba);
-  SceneStyle st;
-  memset(&st, 0, sizeof st);
-  st.shade.kind = SHADE_ORIGAMI;
-  st.shade.origami_mode = 0;
-  Mat4 c = view_box(0, 0, 3, 3);
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
-  origami_render(m, &st, &c, NULL, &t);
+  float *rgba = line_mode(m, view_box(0, 0, 3, 3), w, h);
   /* x = 2 (A over B, A's edge at y = 1 ... B's left edge at x = 2) */
   float *edge = rgba + ((size_t)(h * 5 / 6) * w + w * 2 / 3) * 4;   /* (2, 0.5): B's left edge under A? no: A on top */
   float *inside = rgba + ((size_t)(h * 5 / 6) * w + w / 2) * 4;     /* (1.5, 0.5): inside A */
@@ -535,14 +540,7 @@ TEST(flat_crease_is_no_fold) {
   errors_of(&p, 0, &m);
   if (!m) { CHECK(m != NULL); return; }
   int w = 80, h = 80;
-  float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba);
-  SceneStyle st;
-  memset(&st, 0, sizeof st);
-  st.shade.kind = SHADE_ORIGAMI;
-  st.shade.origami_mode = 0;
-  Mat4 c = view_box(-0.5, -0.5, 2.5, 2.5);   /* x = 1 at column 40, x = 2 at 66.7 */
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
-  origami_render(m, &st, &c, NULL, &t);
+  float *rgba = line_mode(m, view_box(-0.5, -0.5, 2.5, 2.5), w, h);   /* x = 1 at column 40, 2 at 66.7 */
   int mid = 0, right = 0;   /* dark pixels about x = 1 and x = 2, rows inside the folded half */
   for (int y = h * 2 / 3 + 3; y < h * 5 / 6 - 3; y++)
     for (int dx = -3; dx <= 3; dx++) {

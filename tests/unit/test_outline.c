@@ -186,40 +186,40 @@ static void check_scene(const char *name, const char *text, int w, int h) {
 static const char *const TESS[] = {"4", "8", "16", "32", "adaptive(1)", "adaptive(0.25)"};
 static const char *const REF_SCALE[] = {"0.5", "1", "2", "4"};
 
+/* check_scene at every tessellation and scale for the scene head (up to
+** an open style s), its lines' kinds and the object's geometry, named
+** NAME_tT_rR. */
+static void check_settings(const char *name, const char *head, const char *kinds, const char *geometry) {
+  for (size_t t = 0; t < sizeof TESS / sizeof *TESS; t++)
+    for (size_t r = 0; r < sizeof REF_SCALE / sizeof *REF_SCALE; r++) {
+      char text[1024], full[64];
+      snprintf(text, sizeof text,
+               "%s  lines { kinds %s; width 2; ref_scale %s; } }\n"
+               "object { geometry %s; style s; tessellate %s; }\n",
+               head, kinds, REF_SCALE[r], geometry, TESS[t]);
+      snprintf(full, sizeof full, "%s_t%s_r%s", name, TESS[t], REF_SCALE[r]);
+      check_scene(full, text, 256, 192);
+    }
+}
+
 /* The sphere of the report (seen along -y, a silhouette along the seams of
 ** its patches) at every tessellation and reference scale. */
 TEST(sphere_contour) {
-  for (size_t t = 0; t < sizeof TESS / sizeof *TESS; t++)
-    for (size_t r = 0; r < sizeof REF_SCALE / sizeof *REF_SCALE; r++) {
-      char text[1024], name[64];
-      snprintf(text, sizeof text,
-               "include \"shapes.npr\";\n"
-               "camera { position [0, -10, 0]; look_at [0, 0, 0]; fov 30; }\n"
-               "style s { base #3a6ea5; shade toon { }\n"
-               "  lines { kinds silhouette; width 2; ref_scale %s; } }\n"
-               "object { geometry sphere(1); style s; tessellate %s; }\n",
-               REF_SCALE[r], TESS[t]);
-      snprintf(name, sizeof name, "sphere_t%s_r%s", TESS[t], REF_SCALE[r]);
-      check_scene(name, text, 256, 192);
-    }
+  check_settings("sphere",
+                 "include \"shapes.npr\";\n"
+                 "camera { position [0, -10, 0]; look_at [0, 0, 0]; fov 30; }\n"
+                 "style s { base #3a6ea5; shade toon { }\n",
+                 "silhouette", "sphere(1)");
 }
 
 /* The teapot (open at the spout: boundary edges outline it there) from
 ** above and the side, at every tessellation and reference scale. */
 TEST(teapot_contour) {
-  for (size_t t = 0; t < sizeof TESS / sizeof *TESS; t++)
-    for (size_t r = 0; r < sizeof REF_SCALE / sizeof *REF_SCALE; r++) {
-      char text[1024], name[64];
-      snprintf(text, sizeof text,
-               "include \"teapot.npr\";\n"
-               "camera { position [5, -9, 5]; look_at [0.2, 0, 1.2]; fov 35; }\n"
-               "style s { base #e8d5b0;\n"
-               "  lines { kinds silhouette, boundary; width 2; ref_scale %s; } }\n"
-               "object { geometry teapot(); style s; tessellate %s; }\n",
-               REF_SCALE[r], TESS[t]);
-      snprintf(name, sizeof name, "teapot_t%s_r%s", TESS[t], REF_SCALE[r]);
-      check_scene(name, text, 256, 192);
-    }
+  check_settings("teapot",
+                 "include \"teapot.npr\";\n"
+                 "camera { position [5, -9, 5]; look_at [0.2, 0, 1.2]; fov 35; }\n"
+                 "style s { base #e8d5b0;\n",
+                 "silhouette, boundary", "teapot()");
 }
 
 /* ---- meshes from assimp-testmodels --------------------------------------------- */
