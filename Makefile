@@ -87,7 +87,7 @@ deps:
 	else echo "all packages present"; fi
 
 PEER_PACKAGES ?=
-bench bench-parse bench-eval: PEER_PACKAGES := povray openscad hyperfine python3 time
+bench bench-parse bench-eval: PEER_PACKAGES := povray openscad hyperfine python3 time python3-opencv
 bench-solve: PEER_PACKAGES := nodejs python3
 
 # The README's first command: install, build, and render the default example.

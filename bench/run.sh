@@ -133,7 +133,8 @@ PY
   done
 done
 
-# The other stages' workloads: lines (issue 6), origami (issue 7), subdivision (issue 8).
+# The other stages' workloads: lines (issue 6), origami (issue 7), subdivision (issue 8),
+# ukiyo-e colour (issue 16), threshold textures and CLAHE (issue 15).
 echo
 sh bench/lines.sh "$SUMI"
 echo
@@ -142,4 +143,8 @@ echo
 sh bench/subdiv.sh "$SUMI"
 echo
 sh bench/ukiyoe.sh "$SUMI"
+echo
+sh bench/threshold.sh "$SUMI"
+echo
+sh bench/clahe.sh "$(dirname "$SUMI")"
 exit 0

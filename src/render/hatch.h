@@ -63,12 +63,16 @@ static inline void hatch_scale(float g, float w, float *m, float *t) {
 ** t in [0, 1): eq. 6-8 mapped to the uniform distribution. In [0, 1). */
 float hatch_value(float x, float t);
 
-/* The bright part of a period for shade y and blend t: where F(x, t) <= z,
-** z the point where F's distribution reaches y, that is [0, lo] and
-** [1/2, hi] with lo + hi - 1/2 = y. */
-static inline void hatch_bright_ends(float t, float y, float *lo, float *hi) {
-  float c = 1 / (1 + t), a = 0.5f - 0.5f * t, b = 0.5f + 0.5f * t, yc = y * (1 + t);
-  float z = y < c * a ? yc : y < c * (a + 2 * t) ? a + (yc - a) * 0.5f : b + (yc - a - 2 * t);
+/* The bright part of a period for shade y in [0, 1] and blend t (c = 1 /
+** (1 + t)): where F(x, t) <= z, z the point where F's distribution reaches
+** y, that is [0, lo] and [1/2, hi] with lo + hi - 1/2 = y. With yc = y (1 +
+** t): z = yc below a = (1 - t) / 2, a + (yc - a) / 2 up to a + 2t, yc - t
+** past it (the density there is back to c, and b - a - 2t = -t). */
+static inline void hatch_bright_ends(float t, float c, float y, float *lo, float *hi) {
+  float a = 0.5f - 0.5f * t, yc = y * (1 + t);
+  float mid = a + (yc - a) * 0.5f, top = yc - t;
+  float z = yc < a ? yc : mid;
+  z = yc < a + 2 * t ? z : top;
   float l = z * c, h = (z + t) * c;
   l = l > 0 ? l : 0;
   h = h > 0.5f ? h : 0.5f;
@@ -85,21 +89,26 @@ static inline float hatch_bright_i(float x, float y, float lo, float hi) {
 
 /* The fraction of the footprint [x - fw / 2, x + fw / 2] that is bright
 ** for shade y over the lines at x (in [0, 1), the position in the period)
-** and blend t: the threshold box-filtered exactly, a difference of two
-** bright lengths; the value at x alone when fw is under 1e-6, the mean y
-** past 16 periods. No branches or calls, for SIMD lanes. */
-static inline float hatch_coverage(float x, float fw, float t, float y) {
+** and blend t (c = 1 / (1 + t)): the threshold box-filtered exactly, a
+** difference of two bright lengths; the value at x alone when fw is under
+** 1e-6. y outside [0, 1] counts as its end. A footprint past 16 periods is
+** the caller's to cap (whole periods give y; the lengths lose precision).
+** Selects of one level only, no calls: loops of it run in SIMD lanes. */
+static inline float hatch_coverage_c(float x, float fw, float t, float c, float y) {
+  y = y > 0 ? y : 0;
+  y = y < 1 ? y : 1;
   float lo, hi;
-  hatch_bright_ends(t, y, &lo, &hi);
+  hatch_bright_ends(t, c, y, &lo, &hi);
   float step = (x <= lo) | ((x >= 0.5f) & (x <= hi)) ? 1.0f : 0.0f;
-  float h = 0.5f * fw;
-  float box = (hatch_bright_i(x + h, y, lo, hi) - hatch_bright_i(x - h, y, lo, hi)) / (fw > 1e-6f ? fw : 1);
-  float r = fw > 1e-6f ? box : step;
-  r = fw > 16 ? y : r;
-  r = y > 0 ? r : 0;
-  r = y < 1 ? r : 1;
-  r = r > 0 ? r : 0;   /* one select each: a nested one keeps the loop out of SIMD lanes */
+  float h = 0.5f * fw, wide = fw > 1e-6f;
+  float box = (hatch_bright_i(x + h, y, lo, hi) - hatch_bright_i(x - h, y, lo, hi)) / (wide ? fw : 1);
+  float r = wide ? box : step;
+  r = r > 0 ? r : 0;
   return r < 1 ? r : 1;
+}
+
+static inline float hatch_coverage(float x, float fw, float t, float y) {
+  return hatch_coverage_c(x, fw < 16 ? fw : 16, t, 1 / (1 + t), y);
 }
 
 /* The uniform multi-scale dot threshold at cell coordinates (a, b)

@@ -165,8 +165,8 @@ int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
 #define MAX_TAPS 8
 
 /* A block's samples: texture coordinates and derivatives, n.v, and what
-** each layer found (a[0..2] for lines: position in the period, footprint,
-** blend; else thresholds a[0..nq-1] and their weights a[MAX_TAPS..]). */
+** each layer found (a[0..3] for lines: position in the period, footprint,
+** blend t, 1 / (1 + t); else thresholds a[0..nq-1] and their weights a[MAX_TAPS..]). */
 typedef struct Block {
   int n;                       /* samples */
   int n4;                      /* n rounded up to SIMD lanes: the side-by-side loops run to it
@@ -213,22 +213,22 @@ static inline float noise_shift(const Layer *L, const Block *b, int j, uint32_t 
 ** |dh/dx| + |dh/dy| of a sample, in periods) and the blend. Noise moves h by a fraction of the
 ** spacing on screen, so it stays put across scales. */
 static void hatch_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK]) {
-  float cs = L->cs, sn = L->sn, w = L->spacing, k = filter ? inv_n : 0;
-  float shift[BLOCK];
+  float cs = L->cs, sn = L->sn, w = L->spacing, k = filter ? inv_n * FOOTPRINT : 0;
+  float shift[BLOCK];   /* noise: a fraction of the spacing, in pixels */
   if (L->noise > 0)
     for (int j = 0; j < b->n4; j++) shift[j] = noise_shift(L, b, j, 0) * w;
-  else
-    for (int j = 0; j < b->n4; j++) shift[j] = 0;
   for (int j = 0; j < b->n4; j++) {
     float h = -sn * b->u[j] + cs * b->v[j];
     float hx = -sn * b->ux[j] + cs * b->vx[j], hy = -sn * b->uy[j] + cs * b->vy[j];
     float g = sqrtf(hx * hx + hy * hy), m, t;
     hatch_scale(g, w, &m, &t);
-    float x = m * (h + shift[j] * g);
+    float x = m * (L->noise > 0 ? h + shift[j] * g : h);
     x = fabsf(x) < 0x1p23f ? x - hatch_floor(x) : 0;   /* past 2^23 a float has no fraction */
+    float fw = m * (fabsf(hx) + fabsf(hy)) * k;
     a[0][j] = x;
-    a[1][j] = m * (fabsf(hx) + fabsf(hy)) * k * FOOTPRINT;
+    a[1][j] = fw < 16 ? fw : 16;   /* 16 whole periods are the mean already */
     a[2][j] = t;
+    a[3][j] = 1 / (1 + t);
   }
 }
 
@@ -333,11 +333,11 @@ static float curve_at(const double *c, int n, float x) {
 
 /* bright[j] times the lines' bright fraction at band positions y[j] in a
 ** layer's range (lo, inv): apart, so its loop runs in SIMD lanes. */
-__attribute__((noinline)) static void hatch_bright(const float *restrict x, const float *restrict fw,
-                                                   const float *restrict t, const float *restrict y,
-                                                   float lo, float inv, float *restrict bright, int j0,
-                                                   int j1) {
-  for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage(x[j], fw[j], t[j], (y[j] - lo) * inv);
+__attribute__((noinline)) static void hatch_bright(const float (*restrict a)[BLOCK],
+                                                   const float *restrict y, float lo, float inv,
+                                                   float *restrict bright, int j0, int j1) {
+  const float *x = a[0], *fw = a[1], *t = a[2], *c = a[3];
+  for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage_c(x[j], fw[j], t[j], c[j], (y[j] - lo) * inv);
 }
 
 /* The same for a layer of nq weighted thresholds a[0..nq-1] (weights
@@ -371,7 +371,7 @@ static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const 
     return;
   }
   const float(*a)[BLOCK] = b->a[i];
-  if (L->kind == LAYER_HATCH) hatch_bright(a[0], a[1], a[2], y, lo, inv, bright, j0, j1);
+  if (L->kind == LAYER_HATCH) hatch_bright(a, y, lo, inv, bright, j0, j1);
   else taps_bright(a, b->nq[i], y, lo, inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
 }
 

@@ -26,12 +26,17 @@ static uint8_t *reduce(const uint8_t *src, int w, int h, int *nw, int *nh) {
   uint8_t *dst = xmalloc((size_t)*nw * *nh);
   for (int y = 0; y < *nh; y++) {
     int y0 = h > 1 ? 2 * y : 0, y1 = y == *nh - 1 ? h : y0 + 2;   /* rows [y0, y1) */
-    for (int x = 0; x < *nw; x++) {
+    int fast = y1 - y0 == 2 ? *nw - (w & 1) : 0;   /* 2 x 2 blocks: the common case */
+    const uint8_t *a = src + (size_t)y0 * w, *b = a + w;
+    uint8_t *d = dst + (size_t)y * *nw;
+    for (int x = 0; x < fast; x++)
+      d[x] = (uint8_t)((a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1] + 2) >> 2);
+    for (int x = fast; x < *nw; x++) {   /* an odd side's last block, or a side of 1 */
       int x0 = w > 1 ? 2 * x : 0, x1 = x == *nw - 1 ? w : x0 + 2;
       unsigned sum = 0, n = 0;
       for (int j = y0; j < y1; j++)
         for (int i = x0; i < x1; i++, n++) sum += src[(size_t)j * w + i];
-      dst[(size_t)y * *nw + x] = (uint8_t)((sum + n / 2) / n);
+      d[x] = (uint8_t)((sum + n / 2) / n);
     }
   }
   return dst;
@@ -45,17 +50,21 @@ static int regions(int n, double w) {
 
 /* Rank the n values v (0 to 255) as a whole, ties in index order, into
 ** thresholds: the rank's place in [0, 1), in 65536ths. A counting sort on
-** the values to 1/256 of a code. */
+** the values to 1/256 of a code, or coarser for a small level (about four
+** keys a value: a level of a few texels costs no table of 65536). */
 static void rank_thresholds(const float *v, size_t n, uint16_t *out) {
-  enum { KEYS = 256 * 256 };
-  uint32_t *start = xcalloc(KEYS + 1, sizeof *start);
+  int bits = 8;
+  while (bits < 16 && ((size_t)1 << bits) < 4 * n) bits++;
+  uint32_t keys = 1u << bits;
+  float scale = (float)keys / 256;
+  uint32_t *start = xcalloc(keys + 1, sizeof *start);
   uint16_t *key = xmalloc(n * sizeof *key);
   for (size_t i = 0; i < n; i++) {
-    long k = lrintf(v[i] * 256);
-    key[i] = (uint16_t)(k < 0 ? 0 : k >= KEYS ? KEYS - 1 : k);
+    long k = lrintf(v[i] * scale);
+    key[i] = (uint16_t)(k < 0 ? 0 : k >= (long)keys ? keys - 1 : k);
     start[key[i] + 1]++;
   }
-  for (int k = 0; k < KEYS; k++) start[k + 1] += start[k];   /* the first rank of each key */
+  for (uint32_t k = 0; k < keys; k++) start[k + 1] += start[k];   /* the first rank of each key */
   for (size_t i = 0; i < n; i++) {
     uint32_t rank = start[key[i]]++;
     out[i] = (uint16_t)(((uint64_t)rank * 65536 + 32768) / n);   /* (rank + 1/2) / n */
@@ -64,9 +73,8 @@ static void rank_thresholds(const float *v, size_t n, uint16_t *out) {
   free(start);
 }
 
-/* One level: CLAHE with the window, then ranked. */
-static void equalize_level(const uint8_t *grey, int w, int h, double window, double clip,
-                           uint16_t *out) {
+void texture_equalize_level(const uint8_t *grey, int w, int h, double window, double clip,
+                            uint16_t *out) {
   float *v = xmalloc((size_t)w * h * sizeof *v);
   clahe_apply_float(grey, w, h, regions(w, window), regions(h, window), clip, v);
   rank_thresholds(v, (size_t)w * h, out);
@@ -82,7 +90,7 @@ ThresholdTexture *texture_build(const uint8_t *grey, int w, int h, double window
     l->w = w;
     l->h = h;
     l->texels = xmalloc((size_t)w * h * sizeof *l->texels);
-    equalize_level(cur, w, h, window, clip, l->texels);
+    texture_equalize_level(cur, w, h, window, clip, l->texels);
     t->nlevels = k + 1;
     if (w == 1 && h == 1) break;
     uint8_t *next = reduce(cur, w, h, &w, &h);

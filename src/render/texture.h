@@ -60,6 +60,12 @@ typedef struct ThresholdTexture {
 const ThresholdTexture *texture_threshold(const char *path, double window, double clip, char *err,
                                           size_t errlen);
 
+/* One level's thresholds from its w x h grey codes: CLAHE with the window
+** (regions of about window texels a side), then ranked, into out (w * h).
+** texture_build does this for every level. */
+void texture_equalize_level(const uint8_t *grey, int w, int h, double window, double clip,
+                            uint16_t *out);
+
 /* Make a threshold texture from a w x h 8-bit grey image (the cache's
 ** worker, public for tests and benchmarks); texture_free releases it. */
 ThresholdTexture *texture_build(const uint8_t *grey, int w, int h, double window, double clip);
