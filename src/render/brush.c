@@ -1,6 +1,6 @@
 /*
 ** The Chinese brush (see brush.h): the width profile and pressure at the
-** control points, the B-spline path resampled into steps, the dry-brush
+** control points, the Catmull-Rom path resampled into steps, the dry-brush
 ** draws, then the deposits.
 */
 #include "brush.h"
@@ -196,19 +196,41 @@ static void path_alloc(BrushPath *bp, int nsteps) {
   bp->press = xmalloc((size_t)nsteps * sizeof *bp->press);
 }
 
-/* The steps of bp: one pixel of arc length apart along the fine samples
-** f[0..m) (and one at the end), with the control points' values
-** interpolated: the half-width along the spline (clamped to [0,
-** max_width], as it may overshoot a little), pressure and angle linearly. */
+/* Where along the fine samples f[0..m) the brush stands at each step:
+** one pixel along the dominant axis of the way it is going apart (the
+** thesis's "one pixel at a time"; 1 to 1.41 pixels of arc), and at the
+** end. Returns the count; *out is malloc'ed. */
+static int step_positions(const Fine *f, int m, double **out) {
+  double len = f[m - 1].s;
+  int n = 0, cap = (int)len + 2;
+  double *s = xmalloc((size_t)cap * sizeof *s);
+  int j = 0;
+  for (double at = 0; at < len - 1e-6;) {
+    s = xgrow(s, &cap, n + 2, sizeof *s);
+    s[n++] = at;
+    while (j + 2 < m && f[j + 1].s <= at) j++;
+    double dx = fabs(f[j + 1].x - f[j].x), dy = fabs(f[j + 1].y - f[j].y), d = f[j + 1].s - f[j].s;
+    double major = d > 0 ? (dx > dy ? dx : dy) / d : 1;   /* in [0.71, 1] */
+    at += 1 / (major > 0.7 ? major : 0.7);
+  }
+  s[n++] = len;
+  *out = s;
+  return n;
+}
+
+/* The steps of bp along the fine samples f[0..m) (step_positions), with
+** the control points' values interpolated: the half-width along the
+** spline (clamped to [0, max_width], as it may overshoot a little),
+** pressure and angle linearly. */
 static void resample(BrushPath *bp, const Fine *f, int m, const Curve *cv, const float *press,
                      const double *ang, double max_width) {
-  double len = f[m - 1].s;
-  int n = cv->n, nsteps = (int)floor(len) + 1 + (len > floor(len) ? 1 : 0);
+  double *pos;
+  int n = cv->n, nsteps = step_positions(f, m, &pos);
   path_alloc(bp, nsteps);
   int j = 0, kseg = -1;
   double sx[4], sy[4], sw[4], st[4];
   for (int i = 0; i < nsteps; i++) {
-    double s = i < nsteps - 1 ? (double)i : len;
+    double s = pos[i];
     while (j + 2 < m && f[j + 1].s < s) j++;
     const Fine *a = &f[j], *b = &f[j + 1 < m ? j + 1 : j];
     double u = b->s > a->s ? (s - a->s) / (b->s - a->s) : 0;
@@ -225,6 +247,7 @@ static void resample(BrushPath *bp, const Fine *f, int m, const Curve *cv, const
     bp->press[i] = (float)(press[seg] + t * (press[next] - press[seg]));
     bp->ang[i] = (float)(ang[seg] + t * (ang[next] - ang[seg]));
   }
+  free(pos);
 }
 
 /* ---- bristles and the dry brush ------------------------------------------ */
@@ -264,6 +287,23 @@ void brush_bristles_free(BrushBristles *bb) {
   memset(bb, 0, sizeof *bb);
 }
 
+/* The 0/1 bytes f[0 .. 32 words) as bits, bit j of word w from f[32 w + j].
+** Eight bytes at a time: read as a number (byte j at bit 8 j, whatever the
+** machine's byte order), one multiply gathers their low bits into the top
+** byte (byte j's bit lands at 56 + j, and no two products meet). */
+static void pack_bits(const unsigned char *f, int words, uint32_t *out) {
+  for (int w = 0; w < words; w++) {
+    uint32_t v = 0;
+    for (int q = 0; q < 4; q++) {
+      const unsigned char *b = f + 32 * w + 8 * q;
+      uint64_t x = (uint64_t)b[0] | (uint64_t)b[1] << 8 | (uint64_t)b[2] << 16 | (uint64_t)b[3] << 24 |
+                   (uint64_t)b[4] << 32 | (uint64_t)b[5] << 40 | (uint64_t)b[6] << 48 | (uint64_t)b[7] << 56;
+      v |= (uint32_t)((x * 0x0102040810204080ULL) >> 56) << (8 * q);
+    }
+    out[w] = v;
+  }
+}
+
 /* The thesis's gap counters (Fig. 4.4), one per bristle, run over every
 ** step. Each 32-bit draw of the stream decides for two bristles, 16 bits
 ** each: a bristle whose counter is zero starts a gap when the top 10 bits
@@ -273,8 +313,11 @@ void brush_bristles_free(BrushBristles *bb) {
 ** so the loop has no branch to mispredict. */
 static void dry_brush(BrushPath *bp, const SceneBrush *b, Rng *r) {
   int n = bp->br->n;
-  bp->dry = xmalloc((size_t)bp->nsteps * n);
-  uint16_t *gap = xcalloc((size_t)n + 1, sizeof *gap), *half = xmalloc(((size_t)n + 1) * sizeof *half);
+  bp->words = (n + 31) / 32;
+  bp->dry = xmalloc((size_t)bp->nsteps * bp->words * sizeof *bp->dry);
+  size_t nb = (size_t)bp->words * 32;   /* whole words: the spare bristles never deposit */
+  uint16_t *gap = xcalloc(nb, sizeof *gap), *half = xcalloc(nb, sizeof *half);
+  unsigned char *dep = xcalloc(nb, 1);
   uint16_t cut = (uint16_t)(b->dry_probability >= 1 ? 1024 : b->dry_probability * 1024.0 + 0.5);
   uint16_t span = (uint16_t)(b->dry_max_gap + 1);
   for (int i = 0; i < bp->nsteps; i++) {
@@ -283,7 +326,6 @@ static void dry_brush(BrushPath *bp, const SceneBrush *b, Rng *r) {
       half[k] = (uint16_t)(u & 0xFFFFu);
       half[k + 1] = (uint16_t)(u >> 16);
     }
-    unsigned char *dep = bp->dry + (size_t)i * n;
     for (int k = 0; k < n; k++) {
       uint16_t h = half[k], g = gap[k];
       uint16_t start = (uint16_t)((h >> 6) < cut ? ((h & 63) * span) >> 6 : 0);
@@ -291,7 +333,9 @@ static void dry_brush(BrushPath *bp, const SceneBrush *b, Rng *r) {
       gap[k] = g;
       dep[k] = g == 0;
     }
+    pack_bits(dep, bp->words, &bp->dry[(size_t)i * bp->words]);
   }
+  free(dep);
   free(half);
   free(gap);
 }
@@ -357,50 +401,78 @@ static inline int floor_int(float x) {
   return i - ((float)i > x);
 }
 
+/* Index of the lowest set bit of v (v != 0). */
+static inline int lowest_bit(uint32_t v) {
+#ifdef __GNUC__
+  return __builtin_ctz(v);
+#else
+  int i = 0;
+  for (; !(v & 1); v >>= 1) i++;
+  return i;
+#endif
+}
+
 /* Where deposits go: the band's rows [y0, y1) of cov, w wide. */
-typedef struct Canvas { float *cov; int w, y0, y1; } Canvas;
+typedef struct Canvas {
+  float *cov;
+  int w, y0, y1;
+  size_t base;   /* (BRUSH_SHIFT + y0) w + BRUSH_SHIFT: shifted pixel (x, y) is cov[y w + x - base] */
+} Canvas;
 
-/* The bilinear weights of ink d at the shifted point (sx, sy) for the
-** pixels (ix, iy), (ix + 1, iy), (ix, iy + 1), (ix + 1, iy + 1): pixel
-** centres are at whole shifted coordinates, so the weights are the
-** fractions. Both deposit paths use it, so a pixel's ink does not depend
-** on which path (which band) drew it. */
-static inline void splat_weights(float sx, float sy, float d, int *ix, int *iy, float a[4]) {
-  *ix = (int)sx;
-  *iy = (int)sy;
-  float fx = sx - (float)*ix, fy = sy - (float)*iy;
-  float d1 = d * fy, d0 = d - d1;
-  a[1] = d0 * fx;
-  a[0] = d0 - a[1];
-  a[3] = d1 * fx;
-  a[2] = d1 - a[3];
+/* A deposit is split the way Wu draws an antialiased line: the brush
+** moves a pixel along the major axis a step, so along it each bristle
+** takes the nearest pixel, and across it the two pixels around it share
+** the ink by distance. Pixel centres are at whole shifted coordinates.
+** Both paths below weigh alike, so a pixel's ink does not depend on which
+** of them (which band) drew it. */
+static inline void split_weights(float major, float minor, float d, int *im, int *in, float a[2]) {
+  *im = (int)(major + 0.5f);
+  *in = (int)minor;
+  float f = minor - (float)*in;
+  a[1] = d * f;
+  a[0] = d - a[1];
 }
 
-/* Ink d spread over the four pixels around (sx, sy), all inside the rows
-** (the caller checked). */
-static inline void deposit(const Canvas *cv, float sx, float sy, float d) {
-  int ix, iy, w = cv->w;
-  float a[4];
-  splat_weights(sx, sy, d, &ix, &iy, a);
-  float *c = cv->cov + (size_t)(iy - BRUSH_SHIFT - cv->y0) * w + (ix - BRUSH_SHIFT);
-  c[0] += a[0] * (1 - c[0]);
-  c[1] += a[1] * (1 - c[1]);
-  c[w] += a[2] * (1 - c[w]);
-  c[w + 1] += a[3] * (1 - c[w + 1]);
+/* Ink d of the bristle at shifted (sx, sy), x the major axis when xmajor;
+** its two pixels inside the rows (the caller checked). */
+static inline void deposit(const Canvas *cv, float sx, float sy, float d, int xmajor) {
+  int im, in, w = cv->w;
+  float a[2];
+  if (xmajor) {
+    split_weights(sx, sy, d, &im, &in, a);
+    float *c = cv->cov + ((size_t)in * w + (size_t)im - cv->base);
+    c[0] += a[0] * (1 - c[0]);
+    c[w] += a[1] * (1 - c[w]);
+  } else {
+    split_weights(sy, sx, d, &im, &in, a);
+    float *c = cv->cov + ((size_t)im * w + (size_t)in - cv->base);
+    c[0] += a[0] * (1 - c[0]);
+    c[1] += a[1] * (1 - c[1]);
+  }
 }
 
-/* deposit for a point near the rows' or the image's edge: the pixels
-** outside are left out. */
-static void deposit_clipped(const Canvas *cv, float sx, float sy, float d) {
-  int ix, iy;
-  float a[4];
-  splat_weights(sx, sy, d, &ix, &iy, a);
-  for (int q = 0; q < 4; q++) {
-    int xx = ix + (q & 1) - BRUSH_SHIFT, yy = iy + (q >> 1) - BRUSH_SHIFT;
+/* deposit for a bristle whose pixels may lie outside the rows or the
+** image: those are left out. */
+static void deposit_clipped(const Canvas *cv, float sx, float sy, float d, int xmajor) {
+  int im, in;
+  float a[2];
+  split_weights(xmajor ? sx : sy, xmajor ? sy : sx, d, &im, &in, a);
+  for (int q = 0; q < 2; q++) {
+    int xx = (xmajor ? im : in + q) - BRUSH_SHIFT, yy = (xmajor ? in + q : im) - BRUSH_SHIFT;
     if (xx < 0 || xx >= cv->w || yy < cv->y0 || yy >= cv->y1) continue;
     float *c = &cv->cov[(size_t)(yy - cv->y0) * cv->w + xx];
     *c += a[q] * (1 - *c);
   }
+}
+
+/* A deposit of a step whose brush reaches past the rows or the image:
+** most of its bristles are still inside (the whole path), the rest
+** clipped. */
+static inline void deposit_near_edge(const Canvas *cv, float sx, float sy, float d, int xmajor) {
+  int ix = (int)(xmajor ? sx + 0.5f : sx) - BRUSH_SHIFT, iy = (int)(xmajor ? sy : sy + 0.5f) - BRUSH_SHIFT;
+  int x1 = ix + !xmajor, y1 = iy + xmajor;   /* the second pixel */
+  if (iy >= cv->y0 && y1 < cv->y1 && ix >= 0 && x1 < cv->w) deposit(cv, sx, sy, d, xmajor);
+  else deposit_clipped(cv, sx, sy, d, xmajor);
 }
 
 /* The columns [xa, xb] of rows [ya, yb] (inside the band) were written. */
@@ -444,21 +516,26 @@ static void cover_step(const BrushPath *bp, int i, const Canvas *cv, int clip, c
   float c = cosf(bp->ang[i]), s = sinf(bp->ang[i]), P = bp->press[i];
   float cA = c * A, sA = s * A, cB = c * B, sB = s * B;
   float ox = bp->x[i] + (BRUSH_SHIFT - 0.5f), oy = bp->y[i] + (BRUSH_SHIFT - 0.5f);
+  int xmajor = fabsf(c) >= fabsf(s);   /* the axis the brush steps along */
   /* ink_load * W_p = ink (1 - u q), u = (1 - uy) / 2, q = (1 - P) / P */
   float q = (1 - P) / P, d0 = bp->ink * (1 - 0.5f * q), d1 = bp->ink * 0.5f * q;
-  const unsigned char *dep = bp->dry + (size_t)i * bp->br->n;
+  const uint32_t *bits = &bp->dry[(size_t)i * bp->words];
   const float *X = sp->x, *Y = sp->y, *D = sp->d;
   int n = touching(bp, P);
   bristle_points(n, bp->br->ux, bp->br->uy, ox, oy, cA, sA, cB, sB, d0, d1, sp->x, sp->y, sp->d);
-  for (int k = 0; k < n; k++) {
-    if (!dep[k]) continue;   /* in a gap */
-    if (clip) deposit_clipped(cv, X[k], Y[k], D[k]);
-    else deposit(cv, X[k], Y[k], D[k]);
+  for (int w = 0; w * 32 < n; w++) {   /* the bristles out of their gaps, a word at a time */
+    uint32_t v = bits[w];
+    if (n - w * 32 < 32) v &= (1u << (n - w * 32)) - 1;   /* the touching ones only */
+    for (; v; v &= v - 1) {
+      int k = w * 32 + lowest_bit(v);
+      if (clip) deposit_near_edge(cv, X[k], Y[k], D[k], xmajor);
+      else deposit(cv, X[k], Y[k], D[k], xmajor);
+    }
   }
 }
 
 void brush_cover(const BrushPath *bp, float *cov, int w, int y0, int y1, int *lo, int *hi) {
-  Canvas cv = {cov, w, y0, y1};
+  Canvas cv = {cov, w, y0, y1, (size_t)(BRUSH_SHIFT + y0) * (size_t)w + BRUSH_SHIFT};
   size_t n = (size_t)bp->br->n + 1;
   StepPoints sp = {xmalloc(n * sizeof(float)), xmalloc(n * sizeof(float)), xmalloc(n * sizeof(float))};
   for (int i = 0; i < bp->nsteps; i++) {

@@ -8,8 +8,9 @@
 **   smoothing positions and widths follow a centripetal Catmull-Rom spline
 **             through the control points (knots spaced by the square roots of
 **             their distances: no loops where short edges meet long ones;
-**             ends extended by reflection), resampled one output pixel apart:
-**             the brush's steps;
+**             ends extended by reflection; a turn over 30 degrees is a
+**             corner, its edges kept straight), resampled a pixel apart along
+**             the dominant axis of the way: the brush's steps;
 **   pressure  P at a control point grows from `pressure` on a straight run
 **             to 1 at a turn of 90 degrees or more (the included angle of
 **             its two edges), linear between control points (ch. 4.6.2);
@@ -27,8 +28,9 @@
 **             dry_probability; else it counts down; a bristle deposits only
 **             at a step its counter is zero. Draws come from the stroke's
 **             seeded stream.
-** Each deposit is ink_load * W_p, spread bilinearly over the four pixels
-** around the bristle (antialiased) and accumulated as a = a + d (1 - a).
+** Each deposit is ink_load * W_p, antialiased as Wu draws a line (the
+** nearest pixel along the step's major axis, the two around the bristle
+** across it, by distance) and accumulated as a = a + d (1 - a).
 */
 #ifndef render_brush_h
 #define render_brush_h
@@ -58,7 +60,8 @@ typedef struct BrushPath {
   float *ang;            /* direction of travel, radians (y down) */
   float *press;          /* pressure P */
   const BrushBristles *br;   /* not owned */
-  unsigned char *dry;    /* nsteps x br->n: 1 where bristle k deposits at step i */
+  uint32_t *dry;         /* nsteps x words bits: bit k set where bristle k deposits at step i */
+  int words;             /* 32-bit words a step */
   float aspect, ink;
 } BrushPath;
 
@@ -83,7 +86,7 @@ void brush_path_free(BrushPath *bp);
 
 /* Does bristle k deposit at step i? */
 static inline int brush_deposits(const BrushPath *bp, int i, int k) {
-  return bp->dry[(size_t)i * bp->br->n + k];
+  return (bp->dry[(size_t)i * bp->words + (k >> 5)] >> (k & 31)) & 1;
 }
 
 /* The outline of bp's width profile: left and right ends of each step's
