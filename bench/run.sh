@@ -147,4 +147,6 @@ echo
 sh bench/threshold.sh "$SUMI"
 echo
 sh bench/clahe.sh "$(dirname "$SUMI")"
+echo
+sh bench/brush.sh "$SUMI"
 exit 0
