@@ -290,6 +290,22 @@ TEST(sphere_outline_counter_clockwise) {
 
 static SceneBrush default_brush(void) { return scene_default_style().lines.brush; }
 
+/* A brush path along control points c[0..n) with brush b, its bristles,
+** and its dry brush drawn from the stream of (object 7, stroke). */
+typedef struct TestPath { BrushBristles br; BrushPath bp; } TestPath;
+
+static int test_path(TestPath *t, const float *c, int n, const SceneBrush *b, uint32_t stroke) {
+  brush_bristles_make(&t->br, b->sectors, b->bristles);
+  Rng r;
+  rng_seed_key(&r, LINE_STROKE_SEED, 7, stroke);
+  return brush_path_build(&t->bp, c, n, b, &t->br, &r);
+}
+
+static void test_path_free(TestPath *t) {
+  brush_path_free(&t->bp);
+  brush_bristles_free(&t->br);
+}
+
 /* A circle of radius 60 given by 16 control points comes out in steps a
 ** pixel apart along the way's dominant axis (the brush's "one pixel at a
 ** time") that turn smoothly: not a polygon even at 4x zoom. */
@@ -300,31 +316,27 @@ TEST(path_is_smooth) {
     c[2 * i + 1] = (float)(100 + 60 * sin(2 * M_PI * i / 16));
   }
   SceneBrush b = default_brush();
-  BrushBristles br;
-  brush_bristles_make(&br, b.sectors, b.bristles);
-  Rng r;
-  rng_seed_key(&r, 1, 2, 3);
-  BrushPath bp;
-  CHECK(brush_path_build(&bp, c, 17, &b, &br, &r));
+  TestPath t;
+  CHECK(test_path(&t, c, 17, &b, 0));
+
   /* a circle is 8 R sin 45 = 339 pixels round along the dominant axes */
-  CHECK(bp.nsteps > 330 && bp.nsteps < 350);
+  CHECK(t.bp.nsteps > 330 && t.bp.nsteps < 350);
   double worst_turn = 0, most = 0, least = 2, worst_r = 0;
-  for (int i = 1; i + 1 < bp.nsteps; i++) {
-    double ax = bp.x[i] - bp.x[i - 1], ay = bp.y[i] - bp.y[i - 1];
-    double bx = bp.x[i + 1] - bp.x[i], by = bp.y[i + 1] - bp.y[i];
+  for (int i = 1; i + 1 < t.bp.nsteps; i++) {
+    double ax = t.bp.x[i] - t.bp.x[i - 1], ay = t.bp.y[i] - t.bp.y[i - 1];
+    double bx = t.bp.x[i + 1] - t.bp.x[i], by = t.bp.y[i + 1] - t.bp.y[i];
     double turn = fabs(atan2(ax * by - ay * bx, ax * bx + ay * by)) * 180 / M_PI;
     if (turn > worst_turn) worst_turn = turn;
     double major = fmax(fabs(ax), fabs(ay));
     if (major > most) most = major;
     if (major < least) least = major;
-    double rr = fabs(hypot(bp.x[i] - 100, bp.y[i] - 100) - 60);
+    double rr = fabs(hypot(t.bp.x[i] - 100, t.bp.y[i] - 100) - 60);
     if (rr > worst_r) worst_r = rr;
   }
   CHECK(most <= 1.02 && least >= 0.98);   /* a pixel along the dominant axis a step */
   CHECK(worst_turn < 4);   /* 1 / 60 rad = 0.95 degrees a pixel of arc; 22.5 at a corner */
   CHECK(worst_r < 1);      /* through the control points, nearer the arcs than the chords' 1.15 */
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  test_path_free(&t);
 }
 
 /* ---- pressure and weights (ch. 4.6.2) --------------------------------------- */
@@ -341,22 +353,18 @@ TEST(pressure_larger_at_a_turn) {
     c[2 * i + 1] = (float)(i <= 5 ? 0 : 20 * (i - 5));
   }
   SceneBrush b = default_brush();
-  BrushBristles br;
-  brush_bristles_make(&br, b.sectors, b.bristles);
-  Rng r;
-  rng_seed_key(&r, 1, 2, 3);
-  BrushPath bp;
-  CHECK(brush_path_build(&bp, c, 11, &b, &br, &r));
+  TestPath t;
+  CHECK(test_path(&t, c, 11, &b, 0));
+
   float at_turn = 0, straight = 2;
-  for (int i = 0; i < bp.nsteps; i++) {
-    float d = hypotf(bp.x[i] - 100, bp.y[i]);
-    if (d < 3 && bp.press[i] > at_turn) at_turn = bp.press[i];
-    if (bp.x[i] > 25 && bp.x[i] < 55 && bp.press[i] < straight) straight = bp.press[i];
+  for (int i = 0; i < t.bp.nsteps; i++) {
+    float d = hypotf(t.bp.x[i] - 100, t.bp.y[i]);
+    if (d < 3 && t.bp.press[i] > at_turn) at_turn = t.bp.press[i];
+    if (t.bp.x[i] > 25 && t.bp.x[i] < 55 && t.bp.press[i] < straight) straight = t.bp.press[i];
   }
   CHECK(at_turn > 0.9f);
   CHECK_NEAR(straight, 0.6, 1e-5);
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  test_path_free(&t);
 }
 
 /* Formula 6: 1 on the pressed (right) side, falling to P, 0 from u = P on. */
@@ -378,18 +386,14 @@ static double deposit_rate(double p, int max_gap) {
   SceneBrush b = default_brush();
   b.dry_probability = p;
   b.dry_max_gap = max_gap;
-  BrushBristles br;
-  brush_bristles_make(&br, b.sectors, b.bristles);
-  Rng r;
-  rng_seed_key(&r, LINE_STROKE_SEED, 7, 0);
-  BrushPath bp;
-  if (!brush_path_build(&bp, c, 101, &b, &br, &r)) return -1;
-  long on = 0, all = (long)bp.nsteps * br.n;
-  for (int i = 0; i < bp.nsteps; i++)
-    for (int k = 0; k < br.n; k++) on += brush_deposits(&bp, i, k);
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  TestPath t;
+  int ok = test_path(&t, c, 101, &b, 0);
   free(c);
+  if (!ok) { brush_bristles_free(&t.br); return -1; }
+  long on = 0, all = (long)t.bp.nsteps * t.br.n;
+  for (int i = 0; i < t.bp.nsteps; i++)
+    for (int k = 0; k < t.br.n; k++) on += brush_deposits(&t.bp, i, k);
+  test_path_free(&t);
   return (double)on / all;
 }
 
@@ -409,18 +413,13 @@ TEST(dry_brush_rates) {
 ** apart, along y = 50.5: rows [0, 100) of a 460-pixel-wide buffer. */
 static float *line_coverage(const SceneBrush *b) {
   float *c = line_points(21, 20, 50.5f, 20, 0);
-  BrushBristles br;
-  brush_bristles_make(&br, b->sectors, b->bristles);
-  Rng r;
-  rng_seed_key(&r, LINE_STROKE_SEED, 3, 0);
-  BrushPath bp;
-  brush_path_build(&bp, c, 21, b, &br, &r);
+  TestPath t;
+  test_path(&t, c, 21, b, 0);
   float *cov = xcalloc(460 * 100, sizeof *cov);
   int lo[100], hi[100];
   for (int y = 0; y < 100; y++) { lo[y] = 460; hi[y] = -1; }
-  brush_cover(&bp, cov, 460, 0, 100, lo, hi);
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  brush_cover(&t.bp, cov, 460, 0, 100, lo, hi);
+  test_path_free(&t);
   free(c);
   return cov;
 }
@@ -465,24 +464,19 @@ TEST(deposits_are_antialiased) {
   b.pressure = 1;
   b.ink_load = 0.2;
   float *c = line_points(21, 20, 20.25f, 20, 0);
-  BrushBristles br;
-  brush_bristles_make(&br, 1, 1);
-  CHECK_NEAR(br.uy[0], 0, 0);   /* at (r, theta) = (1, 0): on the centre line */
-  Rng r;
-  rng_seed_key(&r, 1, 1, 1);
-  BrushPath bp;
-  CHECK(brush_path_build(&bp, c, 21, &b, &br, &r));
+  TestPath t;
+  CHECK(test_path(&t, c, 21, &b, 0));
+  CHECK_NEAR(t.br.uy[0], 0, 0);   /* at (r, theta) = (1, 0): on the centre line */
   float *cov = xcalloc(460 * 40, sizeof *cov);
   int lo[40], hi[40];
   for (int y = 0; y < 40; y++) { lo[y] = 460; hi[y] = -1; }
-  brush_cover(&bp, cov, 460, 0, 40, lo, hi);
+  brush_cover(&t.bp, cov, 460, 0, 40, lo, hi);
   float r19 = cov[19 * 460 + 230], r20 = cov[20 * 460 + 230], r21 = cov[21 * 460 + 230];
   CHECK(r19 > 0.01f && r20 > r19 && r20 < 0.9f);
   CHECK_NEAR(r21, 0, 0);
   CHECK(lo[20] <= 230 && hi[20] >= 230);
   free(cov);
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  test_path_free(&t);
   free(c);
 }
 
@@ -490,30 +484,26 @@ TEST(deposits_are_antialiased) {
 TEST(outline_is_the_width_profile) {
   float *c = line_points(9, 10, 10, 10, 5);
   SceneBrush b = default_brush();
-  BrushBristles br;
-  brush_bristles_make(&br, b.sectors, b.bristles);
-  Rng r;
-  rng_seed_key(&r, 1, 1, 1);
-  BrushPath bp;
-  CHECK(brush_path_build(&bp, c, 9, &b, &br, &r));
-  float *left = xmalloc((size_t)bp.nsteps * 2 * sizeof *left), *right = xmalloc((size_t)bp.nsteps * 2 * sizeof *right);
-  brush_outline(&bp, left, right);
+  TestPath t;
+  CHECK(test_path(&t, c, 9, &b, 0));
+
+  float *left = xmalloc((size_t)t.bp.nsteps * 2 * sizeof *left), *right = xmalloc((size_t)t.bp.nsteps * 2 * sizeof *right);
+  brush_outline(&t.bp, left, right);
   float widest = 0;
-  for (int i = 0; i < bp.nsteps; i++) {
-    CHECK_NEAR(hypotf(left[2 * i] - bp.x[i], left[2 * i + 1] - bp.y[i]), bp.b[i], 1e-3);
-    CHECK_NEAR(hypotf(right[2 * i] - bp.x[i], right[2 * i + 1] - bp.y[i]), bp.b[i], 1e-3);
-    widest = fmaxf(widest, bp.b[i]);
+  for (int i = 0; i < t.bp.nsteps; i++) {
+    CHECK_NEAR(hypotf(left[2 * i] - t.bp.x[i], left[2 * i + 1] - t.bp.y[i]), t.bp.b[i], 1e-3);
+    CHECK_NEAR(hypotf(right[2 * i] - t.bp.x[i], right[2 * i + 1] - t.bp.y[i]), t.bp.b[i], 1e-3);
+    widest = fmaxf(widest, t.bp.b[i]);
   }
-  CHECK_NEAR(bp.b[0], 0, 1e-6);
-  CHECK_NEAR(bp.b[bp.nsteps - 1], 0, 1e-6);
+  CHECK_NEAR(t.bp.b[0], 0, 1e-6);
+  CHECK_NEAR(t.bp.b[t.bp.nsteps - 1], 0, 1e-6);
   CHECK(widest > 5 && widest <= 7);   /* the splined profile peaks a little under the table's 7 */
   /* left is left as seen: the path runs right and down, so left is up and right */
-  int mid = bp.nsteps / 2;
-  CHECK(left[2 * mid + 1] < bp.y[mid] && left[2 * mid] > bp.x[mid]);
+  int mid = t.bp.nsteps / 2;
+  CHECK(left[2 * mid + 1] < t.bp.y[mid] && left[2 * mid] > t.bp.x[mid]);
   free(left);
   free(right);
-  brush_path_free(&bp);
-  brush_bristles_free(&br);
+  test_path_free(&t);
   free(c);
 }
 
