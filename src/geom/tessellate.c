@@ -658,6 +658,23 @@ static int face_corners(const SceneGeometry *g, int f, int *out) {
   return n;
 }
 
+/* An imported mesh's own texture coordinates on m's triangles: each
+** corner reads its polygon's corner at the same vertex (a UV seam gives a
+** vertex two coordinates, so they go per corner); m->uv holds one of each
+** vertex's. */
+static void polygon_corner_uvs(const SceneGeometry *g, Mesh *m) {
+  m->uv = xcalloc((size_t)m->nverts + 1, sizeof *m->uv);
+  m->corner_uv = xmalloc(((size_t)m->ntris + 1) * sizeof *m->corner_uv);
+  for (int t = 0; t < m->ntris; t++) {
+    int f = m->tri_face[t];
+    for (int k = 0; k < 3; k++) {
+      int v = m->tri[t][k], c = g->face_start[f];
+      while (c < g->face_start[f + 1] - 1 && g->face_index[c] != v) c++;
+      m->corner_uv[t][k] = m->uv[v] = g->face_uv[c];
+    }
+  }
+}
+
 Mesh *tess_polygons(const SceneGeometry *g) {
   TessBuf b = {0};
   int maxn = 0;
@@ -681,6 +698,7 @@ Mesh *tess_polygons(const SceneGeometry *g) {
   if (nv > 0) memcpy(b.pos, g->verts, (size_t)nv * sizeof *b.pos);
   b.nv = nv;
   Mesh *m = buf_to_mesh(&b, 0);
+  if (g->kind == GEOM_MESH && g->face_uv) polygon_corner_uvs(g, m);
   mesh_compute_normals(m);
   mesh_smooth_corners(m, TESS_SMOOTH_ANGLE);
   mesh_build_edges(m);

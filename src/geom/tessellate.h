@@ -45,7 +45,9 @@ Mesh *tess_adaptive(const SceneGeometry *g, const Mat4 *object_to_clip, int widt
 ** shared as given, area-weighted vertex normals (mesh_compute_normals) and,
 ** where faces meet at more than 45 degrees, per-corner normals
 ** (mesh_smooth_corners) so a cube shades flat. Polygons with fewer than 3
-** valid indices are skipped; uv is NULL. Subdivision (subdiv_level) is not
+** valid indices are skipped; uv is NULL unless the geometry carries its own
+** (face_uv, imported), which corner_uv keeps per corner across seams.
+** Subdivision (subdiv_level) is not
 ** applied here. The caller owns the result. */
 Mesh *tess_polygons(const SceneGeometry *g);
 

@@ -108,10 +108,14 @@ static void copy_scene(const struct aiScene *sc, long nverts, long nfaces, long 
   out->nverts = nunique;
   out->face_start = arena_alloc(arena, sizeof(int) * (size_t)(nfaces + 1));
   out->face_index = arena_alloc(arena, sizeof(int) * (size_t)(nidx > 0 ? nidx : 1));
+  int has_uv = 0;   /* any mesh's first UV channel; the others' corners read (0, 0) */
+  for (unsigned m = 0; m < sc->mNumMeshes; m++) has_uv |= sc->mMeshes[m]->mTextureCoords[0] != NULL;
+  if (has_uv) out->face_uv = arena_alloc(arena, sizeof(Vec2) * (size_t)(nidx > 0 ? nidx : 1));
   int nf = 0, k = 0;
   long base = 0;
   for (unsigned m = 0; m < sc->mNumMeshes; m++) {
     const struct aiMesh *mesh = sc->mMeshes[m];
+    const struct aiVector3D *uv = mesh->mTextureCoords[0];
     for (unsigned f = 0; f < mesh->mNumFaces; f++) {
       const struct aiFace *face = &mesh->mFaces[f];
       if (face->mNumIndices < 3) continue;
@@ -119,6 +123,7 @@ static void copy_scene(const struct aiScene *sc, long nverts, long nfaces, long 
       for (unsigned c = 0; c < face->mNumIndices; c++) {
         int w = remap[base + face->mIndices[c]];
         if (k > start && out->face_index[k - 1] == w) continue;  /* repeated corner */
+        if (has_uv) out->face_uv[k] = uv ? (Vec2){uv[face->mIndices[c]].x, uv[face->mIndices[c]].y} : (Vec2){0, 0};
         out->face_index[k++] = w;
       }
       if (k - start > 1 && out->face_index[k - 1] == out->face_index[start]) k--;
@@ -275,8 +280,9 @@ static int import_file(const char *path, SceneGeometry *out, Arena *arena, char 
 ** reads each file in a child process: a crash or a runaway there becomes
 ** an error here. The child sends its result down a pipe:
 **   int ok; then either int len + len bytes of reason,
-**   or int nverts, nfaces, nidx + verts (3 doubles each) + face_start
-**   (nfaces + 1 ints) + face_index (nidx ints). */
+**   or int nverts, nfaces, nidx, has_uv + verts (3 doubles each) + face_start
+**   (nfaces + 1 ints) + face_index (nidx ints) + with has_uv, face_uv (nidx
+**   pairs of doubles). */
 
 static int write_all(int fd, const void *p, size_t n) {
   const char *c = p;
@@ -315,11 +321,12 @@ static _Noreturn void child_import(const char *path, int fd, int timeout_s) {
     int len = (int)strlen(err);
     w = w && write_all(fd, &len, sizeof len) && write_all(fd, err, (size_t)len);
   } else {
-    int head[3] = {g.nverts, g.nfaces, g.face_start[g.nfaces]};
+    int head[4] = {g.nverts, g.nfaces, g.face_start[g.nfaces], g.face_uv != NULL};
     w = w && write_all(fd, head, sizeof head) &&
         write_all(fd, g.verts, sizeof(Vec3) * (size_t)g.nverts) &&
         write_all(fd, g.face_start, sizeof(int) * (size_t)(g.nfaces + 1)) &&
-        write_all(fd, g.face_index, sizeof(int) * (size_t)head[2]);
+        write_all(fd, g.face_index, sizeof(int) * (size_t)head[2]) &&
+        (!g.face_uv || write_all(fd, g.face_uv, sizeof(Vec2) * (size_t)head[2]));
   }
   _exit(w ? 0 : 1);   /* no atexit handlers, no flushing the parent's buffers */
 }
@@ -353,15 +360,16 @@ static int take(Reader *r, void *dst, size_t n) {
 static int unpack(const char *buf, size_t n, SceneGeometry *out, Arena *arena, char *err,
                   size_t errlen) {
   Reader r = {buf, n};
-  int ok, head[3], len;
+  int ok, head[4], len;
   if (!take(&r, &ok, sizeof ok)) return failf(err, errlen, "Assimp ended without an answer");
   if (!ok) {
     if (!take(&r, &len, sizeof len) || len < 0 || (size_t)len > r.left)
       return failf(err, errlen, "Assimp ended without an answer");
     return failf(err, errlen, "%.*s", len, r.p);
   }
-  if (!take(&r, head, sizeof head) || head[0] < 1 || head[1] < 1 || head[2] < 3 ||
-      r.left != sizeof(Vec3) * (size_t)head[0] + sizeof(int) * ((size_t)head[1] + 1 + (size_t)head[2]))
+  if (!take(&r, head, sizeof head) || head[0] < 1 || head[1] < 1 || head[2] < 3 || (head[3] & ~1) ||
+      r.left != sizeof(Vec3) * (size_t)head[0] + sizeof(int) * ((size_t)head[1] + 1 + (size_t)head[2]) +
+                    (head[3] ? sizeof(Vec2) * (size_t)head[2] : 0))
     return failf(err, errlen, "Assimp ended without a whole answer");
   out->nverts = head[0];
   out->nfaces = head[1];
@@ -371,6 +379,10 @@ static int unpack(const char *buf, size_t n, SceneGeometry *out, Arena *arena, c
   take(&r, out->verts, sizeof(Vec3) * (size_t)head[0]);
   take(&r, out->face_start, sizeof(int) * ((size_t)head[1] + 1));
   take(&r, out->face_index, sizeof(int) * (size_t)head[2]);
+  if (head[3]) {
+    out->face_uv = arena_alloc(arena, sizeof(Vec2) * (size_t)head[2]);
+    take(&r, out->face_uv, sizeof(Vec2) * (size_t)head[2]);
+  }
   return 1;
 }
 

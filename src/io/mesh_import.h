@@ -33,7 +33,9 @@
 #define MESH_IMPORT_MAX_MEMORY (8LL << 30)
 
 /* Read the mesh in the file at path into *out (kind GEOM_MESH; verts,
-** face_start and face_index allocated in arena; every other field zero).
+** face_start and face_index allocated in arena, and face_uv when the file
+** has texture coordinates (its first UV channel, per face corner); every
+** other field zero).
 ** Returns 0 on success; nonzero with a one-line reason in err (errlen
 ** bytes; it does not repeat the path, the caller names the file) for a
 ** missing, unreadable or malformed file, or one without polygons.

@@ -317,6 +317,8 @@ typedef struct SceneGeometry {
   int nfaces;
   int *face_start;            /* nfaces + 1 offsets into face_index */
   int *face_index;
+  Vec2 *face_uv;              /* per corner (parallel to face_index): an imported mesh's own
+                                 texture coordinates, or NULL */
   /* subdivision (through OpenSubdiv) when subdiv_level > 0 */
   int subdiv_level;
   const char *subdiv_scheme;  /* "catmark", "loop", "bilinear" */

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "../../src/base/mem.h"
+#include "../../src/geom/tessellate.h"
 #include "../../src/io/mesh_import.h"
 #include "unit.h"
 
@@ -305,17 +306,58 @@ TEST(testmodels_broken) {
   }
 }
 
+/* Texture coordinates come along, per face corner: two quads side by side
+** whose shared edge is a UV seam (each quad maps the whole unit square) give
+** the shared vertices two coordinates, one in each quad's triangles. */
+TEST(obj_uvs_per_corner) {
+  const char *obj =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+      "f 1/1 2/2 3/3 4/4\nf 2/1 5/2 6/3 3/4\n";
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g;
+  char err[256];
+  CHECK(import(write_file("seam.obj", obj), &g, &a, err, sizeof err));
+  CHECK(g.face_uv != NULL);
+  CHECK_EQ_INT(g.nverts, 6);   /* welded: the seam's vertices are shared */
+  Mesh *m = tess_polygons(&g);
+  CHECK(m->uv != NULL && m->corner_uv != NULL);
+  int seen = 0;
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) {
+      Vec3 p = m->pos[m->tri[t][k]];
+      Vec2 uv = mesh_corner_uv(m, t, k);
+      double x0 = m->tri_face[t];   /* quad 0 spans x 0..1, quad 1 spans 1..2 */
+      CHECK_NEAR(uv.x, p.x - x0, 1e-6);
+      CHECK_NEAR(uv.y, p.y, 1e-6);
+      seen++;
+    }
+  CHECK_EQ_INT(seen, 12);
+  mesh_destroy(m);
+  arena_free(&a);
+  /* a file without coordinates has none */
+  arena_init(&a);
+  CHECK(import(write_file("cube.obj", CUBE_OBJ), &g, &a, err, sizeof err));
+  CHECK(g.face_uv == NULL);
+  m = tess_polygons(&g);
+  CHECK(m->uv == NULL);
+  mesh_destroy(m);
+  arena_free(&a);
+}
+
 int main(void) {
   snprintf(tmpdir, sizeof tmpdir, "%s/sumi-import-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
   if (!mkdtemp(tmpdir)) { perror("mkdtemp"); return 1; }
   RUN(obj_cube_quads_welded);
   RUN(obj_pentagon_and_lines);
+  RUN(obj_uvs_per_corner);
   RUN(errors_for_bad_files);
   RUN(assimp_crash_and_loop_are_errors);
   RUN(testmodels_read);
   RUN(testmodels_broken);
   /* remove what we wrote */
-  static const char *files[] = {"cube.obj", "pent.obj", "empty.obj", "points.obj", "range.obj",
+  static const char *files[] = {"cube.obj", "seam.obj", "pent.obj", "empty.obj", "points.obj", "range.obj",
                                 "junk.ply", "garbage.xyzzy", "crash.ply", "loop.ply"};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
     char p[512];
