@@ -133,6 +133,10 @@ void shade_bokashi_free(RenderObject *o);
 void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
                           int stride);
 
+/* Sample s shaded by span shader span as a row of one, into rgb: a
+** model's ShadeFn over its span shader, so both give the same bits. */
+void shade_span_one(const ShadeSample *s, ShadeSpanFn span, float rgb[3]);
+
 /* Whether the model for kind reads ShadeSample.uv (else it is left 0). */
 int shade_reads_uv(ShadeKind kind);
 

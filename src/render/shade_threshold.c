@@ -570,11 +570,5 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
 
 /* One sample as a span of one. */
 void shade_threshold(const ShadeSample *s, float rgb[3]) {
-  float p[3] = {s->p[0], s->p[1], s->p[2]}, n[3] = {s->n[0], s->n[1], s->n[2]};
-  float v[3] = {s->v[0], s->v[1], s->v[2]}, uv[2] = {s->uv[0], s->uv[1]};
-  float bary[1][2] = {{s->b1, s->b2}};
-  int32_t face = s->face;
-  ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
-                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy};
-  shade_threshold_span(&r, s->obj, 0, 1, rgb, 3);
+  shade_span_one(s, shade_threshold_span, rgb);
 }
