@@ -401,22 +401,20 @@ static unsigned char *shown_pixels(const Ctx *c, const TriSetup *ts, const float
 }
 
 /* Is the line at pixel p in front of the mesh there? On the paper where
-** the paper shows; just off it (the outer side of the outline) where the
-** nearest paper pixel beside it is nearer than the mesh at p. */
+** the paper shows; off it (the outer side of the outline) where paper
+** within reach (the line's half-width beyond the Sobel pixel next to the
+** paper, reach = grow + 1) is nearer than the mesh at p. */
 static int line_shown(const Ctx *c, const TriSetup *ts, const unsigned char *shown, const float *depth,
-                      size_t p) {
+                      size_t p, int reach) {
   if (c->fid[p] >= 0) return shown[p];
   if (!depth) return 1;
   int w = c->width, h = c->height, x = (int)(p % (size_t)w), y = (int)(p / (size_t)w);
-  float near = INFINITY;
-  for (int dy = -1; dy <= 1; dy++)
-    for (int dx = -1; dx <= 1; dx++) {
-      int u = x + dx, v = y + dy;
-      if (u < 0 || v < 0 || u >= w || v >= h) continue;
+  for (int v = y - reach < 0 ? 0 : y - reach; v <= y + reach && v < h; v++)
+    for (int u = x - reach < 0 ? 0 : x - reach; u <= x + reach && u < w; u++) {
       size_t q = (size_t)v * w + u;
-      if (c->fid[q] >= 0) near = fminf(near, tri_depth_at(&ts[c->tid[q]], u + 0.5f, v + 0.5f));
+      if (c->fid[q] >= 0 && tri_depth_at(&ts[c->tid[q]], u + 0.5f, v + 0.5f) < depth[p]) return 1;
     }
-  return near < depth[p];
+  return 0;
 }
 
 /* ---- line: Sobel on the face IDs ------------------------------------------ */
@@ -506,10 +504,11 @@ static void sobel_lines(const Ctx *c, const Shading *s, const TriSetup *ts, cons
     }
   }
   int grow = (int)lround((s->line_width - 2) / 2);
+  if (grow < 0) grow = 0;
   if (grow > 0) dilate(mask, w, h, grow);
   float a = s->line_opacity;
   for (size_t p = 0; p < (size_t)w * (size_t)h; p++) {
-    if (!mask[p] || !line_shown(c, ts, shown, depth, p)) continue;
+    if (!mask[p] || !line_shown(c, ts, shown, depth, p, grow + 1)) continue;
     float *o = rgba + p * 4;
     for (int ch = 0; ch < 3; ch++) o[ch] = o[ch] * (1 - a) + s->line_color[ch] * a;
     o[3] = o[3] * (1 - a) + a;

@@ -554,6 +554,66 @@ TEST(flat_crease_is_no_fold) {
   origami_free(m);
 }
 
+/* Ink samples of row y in [x0, x1) of a w-wide RGBA buffer (opaque, dark). */
+static int ink_in_row(const float *rgba, int w, int y, int x0, int x1) {
+  int n = 0;
+  for (int x = x0; x < x1; x++) {
+    const float *o = rgba + ((size_t)y * w + x) * 4;
+    n += o[3] > 0.99f && o[0] < 0.1f;
+  }
+  return n;
+}
+
+/* A line is as wide on the paper's outline as between two faces, at any
+** sample scale and line width, when a depth buffer is given (a frame with
+** or without meshes behind the paper): two squares side by side, [0, 1]
+** and [1, 2], drawn with lines at pixel_scale N. The line's outer half, off
+** the paper, is shown where the paper it outlines is in front of what lies
+** there, however far the widened line reaches (it once looked one sample
+** around only, so the outer half shrank to one sample). With a mesh in
+** front of everything, no line shows at all. */
+TEST(outline_as_wide_as_inner_lines) {
+  Paper p;
+  paper_init(&p);
+  double a[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, b[4][2] = {{1, 0}, {2, 0}, {2, 1}, {1, 1}};
+  piece(&p, 4, a, a);
+  piece(&p, 4, b, b);
+  OrigamiModel *m;
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.shade.kind = SHADE_ORIGAMI;
+  st.shade.origami_mode = 0;                                 /* line mode: paper colour and lines */
+  st.lines.present = 1, st.lines.kinds = 1, st.lines.opacity = 1;
+  Mat4 c = view_box(-1, -1, 3, 2);                           /* 4 x 3 units, 10 pixels a unit */
+  for (int N = 1; N <= 4; N++)
+    for (int lw = 1; lw <= 3; lw++) {
+      int w = 40 * N, h = 30 * N, y = h / 2, unit = 10 * N;
+      float behind[3] = {INFINITY, 0.9f, 0.1f};              /* nothing, a mesh behind, one in front */
+      for (int k = 0; k < 3; k++) {
+        float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba), *depth = xmalloc((size_t)w * h * sizeof *depth);
+        for (int i = 0; i < w * h; i++) depth[i] = behind[k];
+        st.lines.width = lw;
+        OrigamiTarget t = {w, h, rgba, NULL, depth, N};
+        origami_render(m, &st, &c, NULL, &t);
+        int outer = ink_in_row(rgba, w, y, unit / 2, unit * 3 / 2);        /* about x = 0 */
+        int inner = ink_in_row(rgba, w, y, unit * 3 / 2, unit * 5 / 2);    /* about x = 1 */
+        int right = ink_in_row(rgba, w, y, unit * 5 / 2, unit * 7 / 2);    /* about x = 2 */
+        if (k < 2) {
+          CHECK(inner >= lw * N);
+          CHECK_EQ_INT(outer, inner);
+          CHECK_EQ_INT(right, inner);
+        } else {
+          CHECK_EQ_INT(outer + inner + right, 0);
+        }
+        free(depth);
+        free(rgba);
+      }
+    }
+  origami_free(m);
+}
+
 /* The texture shows on faces with the paper's front up, mapped over the
 ** paper's box: the Z fold's top face (2, front up) takes the right third
 ** of a two-colour image, a face showing its back keeps the plain colour. */
@@ -642,6 +702,7 @@ int main(void) {
   RUN(pseudo_shading);
   RUN(line_mode_marks_face_changes);
   RUN(flat_crease_is_no_fold);
+  RUN(outline_as_wide_as_inner_lines);
   RUN(texture_on_the_front);
   RUN(draw_scene);
   return unit_done();
