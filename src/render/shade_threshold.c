@@ -163,6 +163,8 @@ int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
 
 /* Most thresholds a layer reads at a sample (an image's trilinear taps). */
 #define MAX_TAPS 8
+/* Where a stipple layer keeps its taps' span (the row after its 4 weights). */
+#define STIPPLE_SPAN (MAX_TAPS + 4)
 
 /* A block's samples: texture coordinates and derivatives, n.v, and what
 ** each layer found (a[0..3] for lines: position in the period, footprint,
@@ -234,7 +236,10 @@ static void hatch_block(const Layer *L, Block *b, float inv_n, int filter, float
 
 /* Dots on the grid of a = cos(a) u + sin(a) v, b = -sin(a) u + cos(a) v,
 ** spaced by the denser of the two directions; filtered over four taps at
-** (+-1/4, +-1/4) of the sample's footprint. */
+** (+-1/4, +-1/4) of the sample's footprint, each standing for its quarter
+** of it: the threshold's change across a quarter, from the taps'
+** differences, is kept (a[STIPPLE_SPAN]) so each tap's result is the box
+** filter of a linear ramp over its quarter, not a step. */
 static void stipple_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK],
                           int *nq) {
   static const float tap[4][2] = {{-0.25f, -0.25f}, {0.25f, -0.25f}, {-0.25f, 0.25f}, {0.25f, 0.25f}};
@@ -265,6 +270,10 @@ static void stipple_block(const Layer *L, Block *b, float inv_n, int filter, flo
       a[i][j] = stipple_value(s + sx * ox + sy * oy, t + tx * ox + ty * oy, blend);
       a[MAX_TAPS + i][j] = 0.25f;
     }
+    /* taps are half a footprint apart: the mean differences along x and y */
+    float dx = 0.5f * (a[1][j] - a[0][j] + a[3][j] - a[2][j]);
+    float dy = 0.5f * (a[2][j] - a[0][j] + a[3][j] - a[1][j]);
+    a[STIPPLE_SPAN][j] = fabsf(dx) + fabsf(dy);
   }
 }
 
@@ -341,12 +350,23 @@ __attribute__((noinline)) static void hatch_bright(const float (*restrict a)[BLO
 }
 
 /* The same for a layer of nq weighted thresholds a[0..nq-1] (weights
-** a[MAX_TAPS..]): the weights of those met. */
-static void taps_bright(const float (*a)[BLOCK], int nq, const float *y, float lo, float inv,
-                        float *bright, int j0, int j1) {
+** a[MAX_TAPS..]): the weights of those met, or with span (stipple's
+** a[STIPPLE_SPAN]) the part of each tap's ramp, y - q over its span from
+** -1/2 to 1/2, that is met. */
+static void taps_bright(const float (*a)[BLOCK], int nq, const float *span, const float *y, float lo,
+                        float inv, float *bright, int j0, int j1) {
   for (int j = j0; j < j1; j++) {
     float yl = (y[j] - lo) * inv, c = 0;
-    for (int q = 0; q < nq; q++) c += a[q][j] <= yl ? a[MAX_TAPS + q][j] : 0;
+    if (span && span[j] > 1e-6f) {
+      float k = 1 / span[j];
+      for (int q = 0; q < nq; q++) {
+        float r = (yl - a[q][j]) * k + 0.5f;
+        r = r > 0 ? r : 0;
+        c += a[MAX_TAPS + q][j] * (r < 1 ? r : 1);
+      }
+    } else {
+      for (int q = 0; q < nq; q++) c += a[q][j] <= yl ? a[MAX_TAPS + q][j] : 0;
+    }
     c = yl > 0 ? c : 0;   /* below the range: solid */
     bright[j] *= yl < 1 ? c : 1;
   }
@@ -372,7 +392,8 @@ static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const 
   }
   const float(*a)[BLOCK] = b->a[i];
   if (L->kind == LAYER_HATCH) hatch_bright(a, y, lo, inv, bright, j0, j1);
-  else taps_bright(a, b->nq[i], y, lo, inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
+  else taps_bright(a, b->nq[i], L->kind == LAYER_STIPPLE && b->nq[i] == 4 ? a[STIPPLE_SPAN] : NULL, y, lo,
+                   inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
 }
 
 /* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
