@@ -65,6 +65,7 @@ struct ThresholdStyle {
   int nfacing, nlight;
   int nlayers;
   Layer *layers;
+  TexView view;                /* the frame's camera, set when its objects are prepared */
 };
 
 /* A layer when the block gives none: the default hatch. */
@@ -144,6 +145,7 @@ int shade_threshold_prepare(const RenderFrame *f, RenderObject *o) {
   int projection = texcoord_resolve(o, sh->threshold.projection);
   TexView view;
   texcoord_view(&view, &f->camera);
+  o->style->layers->view = view;   /* the same for every object of the frame */
   int n = o->mesh->ntris;
   o->texcoords = xmalloc(((size_t)n + 1) * sizeof *o->texcoords);
   for (int t = 0; t < n; t++)   /* a back face the rasterizer skips is never shaded */
@@ -563,28 +565,36 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
                           int stride) {
   const RenderFrame *f = r->frame;
   const RenderStyle *st = o->style;
-  TexView view;
-  texcoord_view(&view, &f->camera);
+  const TexView *view = &st->layers->view;
   float inv_n = 1.0f / (float)f->samples;   /* a sample's share of a pixel side */
   int ramps = st->src->shade.toon.nramp > 0;
   Block b;
   float R[BLOCK], G[BLOCK], B[BLOCK];
   for (int k = k0; k < k1; k += BLOCK) {
     b.n = k1 - k < BLOCK ? k1 - k : BLOCK;
-    block_coords(&b, r, o, &view, k, b.n);
+    block_coords(&b, r, o, view, k, b.n);
     block_layers(st->layers, &b, inv_n);
-    if (!ramps) bands_block(r, st, &b, k, R, G, B);
-    for (int j = 0; j < b.n; j++) {
-      float *out = rgb + (size_t)(k + j) * stride;
-      if (st->edge > 0 && b.nv[j] < st->edge) {   /* edge = max(0, n.v) below the cutoff */
-        out[0] = st->edge_color[0]; out[1] = st->edge_color[1]; out[2] = st->edge_color[2];
-      } else if (ramps) {
+    if (ramps) {   /* one sample at a time */
+      for (int j = 0; j < b.n4; j++) {
         ShadeSample s;
-        shade_row_sample(r, o, k + j, &s);
-        ramp_sample(&s, st, &b, j, out);
-      } else {
-        out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
+        float c[3];
+        shade_row_sample(r, o, k + (j < b.n ? j : b.n - 1), &s);   /* the padding: the last again */
+        ramp_sample(&s, st, &b, j < b.n ? j : b.n - 1, c);
+        R[j] = c[0]; G[j] = c[1]; B[j] = c[2];
       }
+    } else {
+      bands_block(r, st, &b, k, R, G, B);
+    }
+    if (st->edge > 0)   /* edge = max(0, n.v) below the cutoff: the edge colour */
+      for (int j = 0; j < b.n4; j++) {
+        int edge = b.nv[j] < st->edge;
+        R[j] = edge ? st->edge_color[0] : R[j];
+        G[j] = edge ? st->edge_color[1] : G[j];
+        B[j] = edge ? st->edge_color[2] : B[j];
+      }
+    float *out = rgb + (size_t)k * stride;
+    for (int j = 0; j < b.n; j++, out += stride) {
+      out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
     }
   }
 }
