@@ -133,6 +133,30 @@ PY
   done
 done
 
+# Antialiasing (on by default) against the aliased frame it replaced
+# (-D aa=false): the four commands (each size and at 1x1, with and without)
+# in turn, rounds alternating their order, and the median work (run less
+# the 1x1 run of the same round) of each; the issue's bound is 1.3x.
+echo
+for t in 1 2; do
+  python3 - "$SUMI" "$SCENE" "$DIR" "$t" "$RUNS" <<'PY'
+import statistics, subprocess, sys, time
+sumi, scene, out, t, runs = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5])
+def cmd(aa, w, h):
+    return [sumi, "render", scene, "-o", out + "/aa.png", "-W", w, "-H", h, "--threads", t, "--quiet", "-D", "aa=" + aa]
+cmds = [cmd("true", "1920", "1080"), cmd("true", "1", "1"), cmd("false", "1920", "1080"), cmd("false", "1", "1")]
+times = [[] for _ in cmds]
+for r in range(runs):
+    for i in (range(4) if r % 2 == 0 else reversed(range(4))):
+        t0 = time.perf_counter()
+        subprocess.run(cmds[i], check=True, stdout=subprocess.DEVNULL)
+        times[i].append(time.perf_counter() - t0)
+aa = statistics.median(a - b for a, b in zip(times[0], times[1]))
+off = statistics.median(a - b for a, b in zip(times[2], times[3]))
+print("antialiasing, 1920x1080, %s thread(s): work %.1f ms antialiased, %.1f ms aliased: %.2fx" % (t, aa * 1e3, off * 1e3, aa / off))
+PY
+done
+
 # The other stages' workloads: lines (issue 6), origami (issue 7), subdivision (issue 8),
 # ukiyo-e colour (issue 16), threshold textures and CLAHE (issue 15).
 echo

@@ -54,6 +54,7 @@ static void print_output(const SceneOutput *o, FILE *out) {
   if (o->width) fprintf(out, "output.size %d %d\n", o->width, o->height);
   else fputs("output.size default\n", out);
   fprintf(out, "output.samples %d\n", o->samples);
+  fprintf(out, "output.antialias %s\n", o->antialias ? "true" : "false");
   line_color(out, "output.", "background", o->background);
   const SceneSheet *sh = &o->sheet;
   if (!sh->texture) return;

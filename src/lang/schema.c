@@ -802,6 +802,7 @@ static const Row output_rows[] = {
   CUSTOM("size", cv_size, 0),
   TYPED("background", T_COLOR, SceneOutput, background),
   INT("samples", SceneOutput, samples, 1, SCHEMA_MAX_SAMPLES, 1),
+  {"antialias", T_BOOL, 0, 0, 1, offsetof(SceneOutput, antialias), 0, NULL, NULL},
   CUSTOM("sheet", cv_sheet, R_FILE),
 };
 

@@ -21,6 +21,7 @@
 #include "../geom/subdiv.h"
 #include "../geom/tessellate.h"
 #include "../lang/diag.h"
+#include "antialias.h"
 #include "canvas.h"
 #include "ink.h"
 #include "lines.h"
@@ -451,6 +452,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   f->width = w;
   f->height = h;
   f->samples = o->samples > 0 ? o->samples : s->output.samples > 0 ? s->output.samples : 1;
+  f->antialias = s->output.antialias && !o->aliased;
   f->background = s->output.background;
   if (!check_limits(s, w, h, f->samples)) return 0;
   Vec3 lo, hi;
@@ -529,6 +531,9 @@ typedef struct Bins {
   int *start;
   int *nfront;                 /* per tile: its bin's front-facing triangles come first */
   uint32_t *items;
+  int apron;                   /* 1 when antialiased: a bin also holds the triangles touching
+                                  the samples just around its tile */
+  RastVert **verts;            /* antialiased: per object, its projected vertices */
 } Bins;
 
 #define BIN_LOCAL_BITS 15
@@ -555,6 +560,7 @@ typedef struct SetupChunk { int object, start, end; } SetupChunk;
 typedef struct SetupJob {
   const RenderFrame *f;
   int gw, gh, side;            /* sample grid; tile side in samples */
+  int apron;                   /* samples a tile's bin reaches around it */
   RastVert **verts;            /* per object */
   SetupChunk *chunks;
   RastTriList *lists;          /* per triangle chunk */
@@ -588,7 +594,8 @@ static void emit_chunk(void *ctx, int k) {
     rast_emit(list, tv, c->object, t, job->gw, job->gh);
   }
   TileBox *box = job->boxes[k] = xmalloc(((size_t)list->n + 1) * sizeof *box);
-  int side = job->side;
+  int side = job->side, g = job->apron;   /* a triangle's box grows by the apron */
+  int last_x = (job->gw - 1) / side, last_y = (job->gh - 1) / side;
   for (int i = 0; i < list->n; i++) {
     const RastTri *t = &list->tris[i];
     /* depth is affine: its least value over the box of sample centres is
@@ -596,8 +603,10 @@ static void emit_chunk(void *ctx, int k) {
     float fx0 = (float)t->x0 + 0.5f - t->ox, fx1 = (float)t->x1 - 0.5f - t->ox;
     float fy0 = (float)t->y0 + 0.5f - t->oy, fy1 = (float)t->y1 - 0.5f - t->oy;
     float zx = fminf(t->z[1] * fx0, t->z[1] * fx1), zy = fminf(t->z[2] * fy0, t->z[2] * fy1);
-    box[i] = (TileBox){(uint16_t)(t->x0 / side), (uint16_t)(t->y0 / side),
-                       (uint16_t)((t->x1 - 1) / side), (uint16_t)((t->y1 - 1) / side),
+    int tx1 = (t->x1 - 1 + g) / side, ty1 = (t->y1 - 1 + g) / side;
+    box[i] = (TileBox){(uint16_t)((t->x0 - g > 0 ? t->x0 - g : 0) / side),
+                       (uint16_t)((t->y0 - g > 0 ? t->y0 - g : 0) / side),
+                       (uint16_t)(tx1 < last_x ? tx1 : last_x), (uint16_t)(ty1 < last_y ? ty1 : last_y),
                        t->z[0] + zx + zy - 1e-5f, o->backfacing[t->face]};
   }
 }
@@ -620,7 +629,7 @@ static int make_chunks(const RenderFrame *f, int tris, SetupChunk **out) {
 /* Project every vertex of every object and set up its triangles for a
 ** gw x gh sample grid, on nthreads threads, into b's lists. */
 static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, Bins *b) {
-  SetupJob job = {f, gw, gh, b->side, NULL, NULL, NULL, NULL};
+  SetupJob job = {f, gw, gh, b->side, b->apron, NULL, NULL, NULL, NULL};
   job.verts = xcalloc((size_t)f->nobjects + 1, sizeof *job.verts);
   for (int i = 0; i < f->nobjects; i++)
     job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
@@ -631,8 +640,12 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
   job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
   job.boxes = xcalloc((size_t)n + 1, sizeof *job.boxes);
   parallel_tasks(n, nthreads, emit_chunk, &job);
-  for (int i = 0; i < f->nobjects; i++) free(job.verts[i]);
-  free(job.verts);
+  if (b->apron) {
+    b->verts = job.verts;   /* the edge walks read them */
+  } else {
+    for (int i = 0; i < f->nobjects; i++) free(job.verts[i]);
+    free(job.verts);
+  }
   free(job.chunks);
   b->lists = job.lists;
   b->boxes = job.boxes;
@@ -677,7 +690,9 @@ static void bin_triangles(Bins *b) {
   }
 }
 
-static void bins_free(Bins *b) {
+static void bins_free(Bins *b, int nobjects) {
+  for (int i = 0; b->verts && i < nobjects; i++) free(b->verts[i]);
+  free(b->verts);
   for (int l = 0; l < b->nlists; l++) {
     rast_list_free(&b->lists[l]);
     free(b->boxes[l]);
@@ -704,6 +719,7 @@ typedef struct TileJob {
   pthread_mutex_t band_lock;   /* held by the worker handing bands over */
   int next_band;               /* under band_lock: the first band not handed over */
   double write_s;              /* summed time of the rows calls */
+  AaFrame aa;                  /* antialiased: the edge walks' meshes (antialias.h) */
 } TileJob;
 
 /* One worker's state: its tile planes (when there is no whole G-buffer)
@@ -716,29 +732,49 @@ typedef struct Worker {
   float *rows;                 /* N rows of a tile's shaded samples (N > 1) */
   float *prow;                 /* a tile row of pixels bound for an 8-bit image */
   ShadeRow row;                /* a tile row's rebuilt surface samples */
+  /* antialiased: the tile's shaded samples with their apron, indexed like
+  ** the planes; the tile's blends and the colours aa_apply works out */
+  float *tcol;
+  uint32_t *tkey;              /* the shading's steps at them (ShadeRow.step_key) */
+  AaBlend *blends;
+  AaScratch scratch;
   double raster_s, shade_s, write_s;
 } Worker;
 
+/* A tile's samples, [x0, x1) x [y0, y1), and the target it is drawn
+** into: that rectangle or, antialiased, the rectangle one sample larger
+** (within the grid) in the worker's own planes. */
+typedef struct Tile {
+  RastTarget rt;
+  int x0, y0, x1, y1;
+} Tile;
+
 /* The target for tile (tx, ty): the whole G-buffer's planes, or the
-** worker's own, with the tile's rectangle cleared to the background when
-** clear is set. */
-static RastTarget tile_target(Worker *w, int tx, int ty, int clear) {
+** worker's own, with the rectangle cleared to the background when clear
+** is set. */
+static Tile tile_target(Worker *w, int tx, int ty, int clear) {
   const Bins *b = w->job->bins;
-  GBuffer *g = w->job->full;
+  GBuffer *g = w->job->bins->apron ? NULL : w->job->full;   /* antialiased: copied to it after */
+  Tile tl;
   RastTarget rt = {0};
   int gw = w->job->f->width * w->job->f->samples, gh = w->job->f->height * w->job->f->samples;
-  rt.x0 = tx * b->side;
-  rt.y0 = ty * b->side;
-  rt.x1 = rt.x0 + b->side < gw ? rt.x0 + b->side : gw;
-  rt.y1 = rt.y0 + b->side < gh ? rt.y0 + b->side : gh;
+  int a = b->apron;
+  tl.x0 = tx * b->side;
+  tl.y0 = ty * b->side;
+  tl.x1 = tl.x0 + b->side < gw ? tl.x0 + b->side : gw;
+  tl.y1 = tl.y0 + b->side < gh ? tl.y0 + b->side : gh;
+  rt.x0 = tl.x0 - a > 0 ? tl.x0 - a : 0;
+  rt.y0 = tl.y0 - a > 0 ? tl.y0 - a : 0;
+  rt.x1 = tl.x1 + a < gw ? tl.x1 + a : gw;
+  rt.y1 = tl.y1 + a < gh ? tl.y1 + a : gh;
   if (g) {
     rt.ox = rt.oy = 0;
     rt.stride = g->width;
     rt.depth = g->depth; rt.object = g->object; rt.face = g->face; rt.bary = g->bary;
   } else {
-    rt.ox = rt.x0;
-    rt.oy = rt.y0;
-    rt.stride = b->side;
+    rt.ox = tl.x0 - a;
+    rt.oy = tl.y0 - a;
+    rt.stride = b->side + 2 * a;
     rt.depth = w->depth; rt.object = w->object; rt.face = w->face; rt.bary = w->bary;
   }
   for (int y = rt.y0; clear && y < rt.y1; y++) {
@@ -750,7 +786,8 @@ static RastTarget tile_target(Worker *w, int tx, int ty, int clear) {
       memset(rt.bary + i, 0, (size_t)n * sizeof *rt.bary);
     }
   }
-  return rt;
+  tl.rt = rt;
+  return tl;
 }
 
 /* Shade the n samples of a tile row starting at plane index i (sample
@@ -890,6 +927,77 @@ static void shade_tile(const TileJob *job, const RastTarget *rt, int empty, floa
   }
 }
 
+/* Antialiased: the tile's samples and its apron are shaded into the
+** worker's tile colours, with where the shading steps, the blends of the
+** tile's edges (antialias.h) applied there, then written out: as they are
+** at one sample a pixel, box-filtered otherwise. */
+static void shade_tile_aa(const TileJob *job, const Tile *tl, Worker *w) {
+  const RenderFrame *f = job->f;
+  const RastTarget *rt = &tl->rt;
+  const Image *img = job->out;
+  int N = f->samples, nc = N == 1 ? img->channels : 4, n = tl->x1 - tl->x0;
+  Color bg = f->background;
+  float bgu[4] = {bg.a > 0 ? bg.r : 0, bg.a > 0 ? bg.g : 0, bg.a > 0 ? bg.b : 0, bg.a};
+  float bgp[4] = {bg.r * bg.a, bg.g * bg.a, bg.b * bg.a, bg.a};   /* premultiplied, for the filter */
+  const float *bgc = N == 1 ? bgu : bgp;
+  int wn = rt->x1 - rt->x0;
+  for (int y = rt->y0; y < rt->y1; y++) {   /* the apron too: the blends read its colours and steps */
+    int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
+    w->row.step_key = w->tkey + i;
+    memset(w->row.step_key, 0, (size_t)wn * sizeof *w->row.step_key);
+    shade_row(job, rt, i, rt->x0, y, wn, w->tcol + (size_t)i * nc, nc, bgc, &w->row);
+  }
+  w->row.step_key = NULL;
+  AaSteps steps = {w->tkey, &job->view};
+  int nb = aa_tile(&job->aa, rt, &steps, tl->x0, tl->y0, tl->x1, tl->y1, w->blends);
+  aa_apply(w->blends, nb, w->tcol, nc, N == 1, &w->scratch);
+  if (N == 1) {
+    for (int y = tl->y0; y < tl->y1; y++) {
+      const float *c = w->tcol + (size_t)((y - rt->oy) * rt->stride + (tl->x0 - rt->ox)) * nc;
+      float *o = row_out(job, tl->x0, y, w->prow);
+      memcpy(o, c, (size_t)n * nc * sizeof *o);
+      put_row(job, tl->x0, y, n, o);
+    }
+    return;
+  }
+  float nn = (float)(N * N), inv_nn = 1.0f / nn;
+  int oc = img->channels;
+  for (int py = tl->y0 / N; py < tl->y1 / N; py++) {
+    float *o = row_out(job, tl->x0 / N, py, w->prow), *o0 = o;
+    for (int px = tl->x0 / N; px < tl->x1 / N; px++, o += oc) {
+      float acc[4] = {0, 0, 0, 0};
+      for (int r = 0; r < N; r++) {
+        const float *q = w->tcol + (size_t)((py * N + r - rt->oy) * rt->stride + (px * N - rt->ox)) * 4;
+        for (int k = 0; k < N; k++, q += 4) {
+          acc[0] += q[0]; acc[1] += q[1]; acc[2] += q[2]; acc[3] += q[3];
+        }
+      }
+      float un = acc[3] == nn ? inv_nn : acc[3] > 0 ? 1 / acc[3] : 0;   /* as shade_tile */
+      o[0] = acc[0] * un; o[1] = acc[1] * un; o[2] = acc[2] * un;
+      if (oc == 4) o[3] = acc[3] * inv_nn;
+    }
+    put_row(job, tl->x0 / N, py, n / N, o0);
+  }
+}
+
+/* Antialiased with a whole G-buffer kept: the tile's samples, drawn in
+** the worker's planes, go into it (face -1 and bary 0 on the
+** background, as a kept G-buffer shows them). */
+static void copy_tile(GBuffer *g, const Tile *tl) {
+  const RastTarget *rt = &tl->rt;
+  for (int y = tl->y0; y < tl->y1; y++)
+    for (int x = tl->x0; x < tl->x1; x++) {
+      int i = (y - rt->oy) * rt->stride + (x - rt->ox);
+      size_t j = (size_t)y * g->width + x;
+      int drawn = rt->object[i] >= 0;
+      g->depth[j] = rt->depth[i];
+      g->object[j] = rt->object[i];
+      g->face[j] = drawn ? rt->face[i] : GBUF_NO_ID;
+      g->bary[j][0] = drawn ? rt->bary[i][0] : 0;
+      g->bary[j][1] = drawn ? rt->bary[i][1] : 0;
+    }
+}
+
 /* The farthest depth in rectangle [x0, x1) x [y0, y1) of rt
 ** (GBUF_NO_DEPTH if nothing is drawn at some sample of it; 0 for a
 ** rectangle of no samples). Eight running maxima, one per column mod 8,
@@ -974,13 +1082,16 @@ static void *tile_worker(void *arg) {
     /* a tile no triangle touches, one sample a pixel, no G-buffer kept:
     ** the background, without clearing planes to read them back */
     int empty = b->start[k] == b->start[k + 1] && job->f->samples == 1 && !job->full;
-    RastTarget rt = tile_target(w, k % b->tiles_x, k / b->tiles_x, !empty);
+    Tile tl = tile_target(w, k % b->tiles_x, k / b->tiles_x, !empty);
+    RastTarget *rt = &tl.rt;
     int first_back = b->start[k] + b->nfront[k];
-    raster_items(b, b->start[k], first_back, INFINITY, 0, &rt);
+    raster_items(b, b->start[k], first_back, INFINITY, 0, rt);
     if (first_back < b->start[k + 1])   /* behind all the front faces drawn: skipped */
-      raster_items(b, first_back, b->start[k + 1], tile_far(&rt), 1, &rt);
+      raster_items(b, first_back, b->start[k + 1], tile_far(rt), 1, rt);
     double t1 = stats_now();
-    shade_tile(job, &rt, empty, w->rows, &w->row, w->prow);
+    if (b->apron && job->full) copy_tile(job->full, &tl);
+    if (b->apron && !empty) shade_tile_aa(job, &tl, w);
+    else shade_tile(job, rt, empty, w->rows, &w->row, w->prow);
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
     if (job->rows) tile_done(w, k / b->tiles_x);
@@ -991,19 +1102,28 @@ static void *tile_worker(void *arg) {
 static void run_workers(TileJob *job, int nthreads) {
   Worker *ws = xcalloc((size_t)nthreads, sizeof *ws);
   pthread_t *tid = xcalloc((size_t)nthreads, sizeof *tid);
-  size_t side = (size_t)job->bins->side, n = side * side;
+  int apron = job->bins->apron;
+  size_t side = (size_t)job->bins->side, wide = side + 2 * (size_t)apron, n = wide * wide;
   for (int i = 0; i < nthreads; i++) {
     ws[i].job = job;
-    if (!job->full) {
+    if (!job->full || apron) {
       ws[i].depth = xmalloc(n * sizeof *ws[i].depth);
       ws[i].object = xmalloc(n * sizeof *ws[i].object);
       ws[i].face = xmalloc(n * sizeof *ws[i].face);
       ws[i].bary = xmalloc(n * sizeof *ws[i].bary);
     }
-    shade_row_alloc(&ws[i].row, job->f, (int)side);
+    shade_row_alloc(&ws[i].row, job->f, (int)wide);
     if (job->f->samples > 1)
       ws[i].rows = xmalloc((size_t)job->f->samples * side * 4 * sizeof *ws[i].rows);
     ws[i].prow = xmalloc(side * 4 * sizeof *ws[i].prow);
+    if (apron) {
+      ws[i].tcol = xmalloc(n * 4 * sizeof *ws[i].tcol);
+      ws[i].tkey = xmalloc(n * sizeof *ws[i].tkey);
+      ws[i].blends = xmalloc(4 * n * sizeof *ws[i].blends);
+      ws[i].scratch.sum = xcalloc(n, sizeof *ws[i].scratch.sum);
+      ws[i].scratch.acc = xcalloc(4 * n, sizeof *ws[i].scratch.acc);
+      ws[i].scratch.touched = xmalloc(n * sizeof *ws[i].scratch.touched);
+    }
   }
   for (int i = 1; i < nthreads; i++)
     if (pthread_create(&tid[i], NULL, tile_worker, &ws[i]) != 0)
@@ -1030,6 +1150,12 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].bary);
     free(ws[i].rows);
     free(ws[i].prow);
+    free(ws[i].tcol);
+    free(ws[i].tkey);
+    free(ws[i].blends);
+    free(ws[i].scratch.sum);
+    free(ws[i].scratch.acc);
+    free(ws[i].scratch.touched);
     shade_row_free(&ws[i].row);
   }
   free(ws);
@@ -1043,6 +1169,7 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
   int nthreads = thread_count(o);
   Bins bins = {0};
   bins.side = RENDER_TILE * N;
+  bins.apron = f->antialias;
   setup_triangles(f, gw, gh, nthreads, &bins);
   bins.tiles_x = (gw + bins.side - 1) / bins.side;
   bins.tiles_y = (gh + bins.side - 1) / bins.side;
@@ -1077,6 +1204,7 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
     job.full = gbuf_create(f->width, f->height, N);
     job.full->camera = camera_scaled(&f->camera, gw, gh);
   }
+  if (bins.apron) aa_frame_init(&job.aa, f, bins.verts);
   int ntiles = bins.tiles_x * bins.tiles_y;
   run_workers(&job, nthreads < ntiles ? nthreads : ntiles);
   stats_record("raster+shade", stats_now() - t1);
@@ -1087,7 +1215,8 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
     pthread_mutex_destroy(&job.band_lock);
   }
   free(job.span);
-  bins_free(&bins);
+  if (bins.apron) aa_frame_free(&job.aa);
+  bins_free(&bins, f->nobjects);
 }
 
 /* ---- origami sheets (Mitani's method, render/origami.h) ------------------------ */

@@ -49,7 +49,7 @@
 ** adaptive tessellation is bounded per patch (TESS_MAX_SEGMENTS). */
 #define RENDER_MAX_TRIANGLES 20000000LL
 /* Screen tiles, in output pixels a side (a tile is TILE * samples samples). */
-#define RENDER_TILE 32
+#define RENDER_TILE 64
 
 /* A taker of an 8-bit frame's finished rows, so that encoding the file
 ** overlaps rendering. render_scene uses it when nothing is drawn over the
@@ -70,6 +70,9 @@ typedef struct RenderOptions {
   int stats;           /* the caller prints stats.h's table (stages always record) */
   int samples;         /* 0: the scene's `samples`; else overrides it */
   int out8;            /* the frame goes to an 8-bit file: render_scene may make it 8-bit */
+  int aliased;         /* 1: no antialiasing whatever the scene says (a frame whose colour
+                          regions are traced: the blended colours of edge pixels would make
+                          slivers) */
   const RenderRows *rows;   /* with out8: the file's encoder, or NULL */
   struct StrokeList **strokes;   /* when set, render_scene hands the line stage's strokes
                                     back here (stroke_list_free) instead of drawing them */
@@ -150,6 +153,8 @@ typedef struct RenderObject {
 typedef struct RenderFrame {
   int width, height;           /* output pixels */
   int samples;                 /* N: N x N samples a pixel */
+  int antialias;               /* `output { antialias }`: edges and bands are filtered
+                                  by coverage (antialias.h) */
   Camera camera;               /* for the output size (camera_scaled for others) */
   Color background;
   int nobjects;

@@ -54,7 +54,7 @@ void shade_span_one(const ShadeSample *s, ShadeSpanFn span, float rgb[3]) {
   float bary[1][2] = {{s->b1, s->b2}};
   int32_t face = s->face;
   ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
-                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy};
+                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy, .step_key = NULL};
   span(&r, s->obj, 0, 1, rgb, 3);
 }
 
@@ -224,6 +224,28 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
     r->u[j] = (float)(b0 * uv[t[0]].x + b1 * uv[t[1]].x + b2 * uv[t[2]].x);
     r->v[j] = (float)(b0 * uv[t[0]].y + b1 * uv[t[1]].y + b2 * uv[t[2]].y);
   }
+}
+
+void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, float b1, float b2,
+                      float p[3], float n[3], float v[3]) {
+  const int *t = o->mesh->tri[face];
+  const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
+  const float *n0 = o->wnrm[t[0]], *n1 = o->wnrm[t[1]], *n2 = o->wnrm[t[2]];
+  if (o->wcnrm) { n0 = o->wcnrm[face][0]; n1 = o->wcnrm[face][1]; n2 = o->wcnrm[face][2]; }
+  float b0 = 1 - b1 - b2;
+  p[0] = b0 * p0[0] + b1 * p1[0] + b2 * p2[0];
+  p[1] = b0 * p0[1] + b1 * p1[1] + b2 * p2[1];
+  p[2] = b0 * p0[2] + b1 * p1[2] + b2 * p2[2];
+  n[0] = b0 * n0[0] + b1 * n1[0] + b2 * n2[0];
+  n[1] = b0 * n0[1] + b1 * n1[1] + b2 * n2[1];
+  n[2] = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
+  float nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  float sn = (nn > 0 ? 1 / sqrtf(nn) : 0) * (o->backfacing[face] ? -1.0f : 1.0f);
+  n[0] *= sn; n[1] *= sn; n[2] *= sn;
+  if (view->ortho) { v[0] = view->back[0]; v[1] = view->back[1]; v[2] = view->back[2]; return; }
+  v[0] = view->eye[0] - p[0]; v[1] = view->eye[1] - p[1]; v[2] = view->eye[2] - p[2];
+  float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], sv = vv > 0 ? 1 / sqrtf(vv) : 0;
+  v[0] *= sv; v[1] *= sv; v[2] *= sv;
 }
 
 void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s) {

@@ -62,6 +62,9 @@ ShadeFn shade_model(ShadeKind kind);
 ** reads it). Screen-space models (bokashi linear, the noise and pattern
 ** layer) read the samples' grid positions: sample k is at column sx0 + k
 ** of row sy, in samples (frame->samples a pixel side). */
+/* Terms a sample's step levels hold (ShadeRow.step_key). */
+#define SHADE_STEP_TERMS 4
+
 typedef struct ShadeRow {
   const RenderFrame *frame;
   const int32_t *face;
@@ -71,7 +74,21 @@ typedef struct ShadeRow {
   float *vx, *vy, *vz;
   float *u, *v;
   int sx0, sy;         /* sample 0's column and the row in the frame's sample grid */
+  /* antialiased (else NULL): where a model's colour steps (toon's bands,
+  ** highlight and edge; antialias.h filters them): per sample, the level
+  ** of each of up to SHADE_STEP_TERMS terms, one signed byte each (byte t
+  ** for term t). The tile pass zeroes it first: a model that does not step
+  ** writes nothing. shade_step_value gives a term's smooth value. */
+  uint32_t *step_key;
 } ShadeRow;
+
+/* Term t of a sample whose style is st (ShadeRow.step_key), from its
+** point p, unit normal n and view vector v: its smooth value, in units
+** where the step from level L to L + 1 is at L + 1, so that between two
+** samples a step lies where the value, taken linear, crosses it; NAN for
+** a term the style does not have. */
+float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const float p[3],
+                       const float n[3], const float v[3]);
 
 /* Samples shade_row_rebuild works on side by side. */
 #define SHADE_LANES 4
@@ -98,6 +115,13 @@ typedef struct ShadeView {
 ** rebuilds), so a row is rebuilt run after run from left to right. */
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
                        int k0, int k1);
+
+/* The surface of one sample alone: the point p, unit normal n (turned
+** toward the viewer on a back face) and unit view vector v where
+** triangle face of o is at barycentrics (b1, b2), as shade_row_rebuild
+** makes them (to rounding). */
+void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, float b1, float b2,
+                      float p[3], float n[3], float v[3]);
 
 /* Sample k of r, which shows object o, as one ShadeSample. */
 void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s);

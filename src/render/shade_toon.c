@@ -115,6 +115,61 @@ static int any_highlight(const ShadeRow *r, const RenderStyle *st, const float l
   return any;
 }
 
+/* Antialiased, the bands record the level each of their steps is on
+** (ShadeRow.step_key) for antialias.h: term 0 the n.v edge (if any), then
+** per light its diffuse step and (with a specular) its highlight's, as
+** many as SHADE_STEP_TERMS hold; shade_step_value gives their values.
+** The term of light i's diffuse step (its highlight's is the next): */
+static int diffuse_term(const RenderStyle *st, int i) {
+  return (st->edge > 0) + i * (1 + (st->specular > 0));
+}
+
+/* Levels of light i's terms at samples k0..k0+n-1 of r from their steps'
+** values T_n(f_d) in td and, when given, T_m(f_s) times the specular
+** strength in ts (NULL: none passes the cut, level -1): a T value is
+** (level + 1) / n. */
+static void light_levels(const ShadeRow *r, const RenderStyle *st, int i, int k0, int n,
+                         const float *restrict td, const float *restrict ts) {
+  int t = diffuse_term(st, i);
+  if (t >= SHADE_STEP_TERMS) return;
+  uint32_t *restrict key = r->step_key + k0;   /* zeroed by the tile pass */
+  float bn = (float)st->bands_n;
+  for (int j = 0; j < n; j++) key[j] |= ((uint32_t)((int)(td[j] * bn + 0.5f) - 1) & 0xffu) << (8 * t);
+  if (++t >= SHADE_STEP_TERMS || !(st->specular > 0)) return;
+  if (!ts) {
+    for (int j = 0; j < n; j++) key[j] |= 0xffu << (8 * t);
+    return;
+  }
+  float m = (float)st->spec_n / st->specular;
+  for (int j = 0; j < n; j++) key[j] |= ((uint32_t)((int)(ts[j] * m + 0.5f) - 1) & 0xffu) << (8 * t);
+}
+
+float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const float p[3],
+                       const float n[3], const float v[3]) {
+  if (st->kind != SHADE_TOON) return NAN;
+  if (st->edge > 0 && t-- == 0) return dot3(n, v) - st->edge;
+  const ShadeToon *tn = &st->src->shade.toon;
+  if (tn->nramp > 0) {   /* the ramps' indices: d (then s) times the colours' count */
+    float d = 0, sp = 0;
+    for (int i = 0; i < f->nlights; i++) {
+      float l[3], col[3];
+      shade_light(f, i, p, l, col);
+      float w = (col[0] + col[1] + col[2]) / 3;
+      d += shade_diffuse(n, l) * w;
+      if (st->specular > 0) sp += shade_specular(n, l, v, st->shininess) * w;
+    }
+    if (t == 0) return d * tn->nramp;
+    if (t != 1 || !(st->specular > 0)) return NAN;
+    return tn->nspecular_ramp > 0 ? sp * tn->nspecular_ramp : sp * st->spec_n - st->spec_threshold;
+  }
+  int per = 1 + (st->specular > 0), i = t / per;
+  if (i >= f->nlights) return NAN;
+  float l[3], col[3];
+  shade_light(f, i, p, l, col);
+  if (t % per == 0) return dot3(n, l) * st->bands_n - st->threshold;   /* not clamped: its true distance */
+  return shade_specular(n, l, v, st->shininess) * st->spec_n - st->spec_threshold;
+}
+
 /* Bands for samples k0..k0+n-1 (n <= TOON_BLOCK): T_n on each light's
 ** diffuse term, T_m on its specular term, the sums per channel in planes.
 ** Each sample's arithmetic is the same, in the same order, whether it is
@@ -141,10 +196,12 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
       for (int j = 0; j < n; j++) {
         float d = nx[j] * dx + ny[j] * dy + nz[j] * dz;
         float t = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
+        td[j] = t;
         R[j] += (base[0] * t + 0.0f) * c0;   /* + 0: the specular term, as below */
         G[j] += (base[1] * t + 0.0f) * c1;
         B[j] += (base[2] * t + 0.0f) * c2;
       }
+      if (r->step_key) light_levels(r, st, i, k0, n, td, NULL);
       continue;
     }
     light_block(lt, r, k0, n, lx, ly, lz, fall);
@@ -154,6 +211,7 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
       td[j] = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
     }
     if (st->specular > 0) highlight_block(r, st, k0, n, lx, ly, lz, nl, ts);
+    if (r->step_key) light_levels(r, st, i, k0, n, td, ts);
     for (int j = 0; j < n; j++) {
       float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
       R[j] += (base[0] * td[j] + ts[j]) * c0;
@@ -161,13 +219,39 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
       B[j] += (base[2] * td[j] + ts[j]) * c2;
     }
   }
-  if (st->edge > 0)   /* edge = max(0, n.v) below the cutoff: the edge colour */
-    for (int j = 0; j < n; j++) {
-      int edge = nx[j] * vx[j] + ny[j] * vy[j] + nz[j] * vz[j] < st->edge;
-      R[j] = edge ? st->edge_color[0] : R[j];
-      G[j] = edge ? st->edge_color[1] : G[j];
-      B[j] = edge ? st->edge_color[2] : B[j];
-    }
+  if (!(st->edge > 0)) return;
+  int lv[TOON_BLOCK];
+  for (int j = 0; j < n; j++) {   /* edge = max(0, n.v) below the cutoff: the edge colour */
+    int edge = nx[j] * vx[j] + ny[j] * vy[j] + nz[j] * vz[j] < st->edge;
+    R[j] = edge ? st->edge_color[0] : R[j];
+    G[j] = edge ? st->edge_color[1] : G[j];
+    B[j] = edge ? st->edge_color[2] : B[j];
+    lv[j] = edge;
+  }
+  if (!r->step_key) return;
+  uint32_t *restrict key = r->step_key + k0;
+  for (int j = 0; j < n; j++) key[j] |= (uint32_t)-lv[j] & 0xffu;   /* level -1 below the cutoff */
+}
+
+/* The levels of the ramps' terms at sample k of r (as light_levels):
+** the edge, the diffuse ramp's index, the specular ramp's index or step. */
+static void toon_ramp_levels(const ShadeRow *r, const ShadeSample *s, const RenderStyle *st, int k) {
+  const ShadeToon *tn = &st->src->shade.toon;
+  int t = st->edge > 0, lv[2];
+  uint32_t key = st->edge > 0 && dot3(s->n, s->v) < st->edge ? 0xffu : 0;
+  float d = 0, sp = 0;
+  for (int i = 0; i < s->frame->nlights; i++) {
+    float l[3], col[3];
+    shade_light(s->frame, i, s->p, l, col);
+    float w = (col[0] + col[1] + col[2]) / 3;
+    d += shade_diffuse(s->n, l) * w;
+    if (st->specular > 0) sp += shade_specular(s->n, l, s->v, st->shininess) * w;
+  }
+  lv[0] = (int)(ramp_at(tn->ramp, tn->nramp, d) - tn->ramp);
+  if (tn->nspecular_ramp > 0) lv[1] = (int)(ramp_at(tn->specular_ramp, tn->nspecular_ramp, sp) - tn->specular_ramp);
+  else lv[1] = (int)(shade_step_inv(sp, st->spec_threshold, st->spec_n, st->inv_spec_n) * st->spec_n + 0.5f) - 1;
+  for (int j = 0; j < 1 + (st->specular > 0); j++) key |= ((uint32_t)lv[j] & 0xffu) << (8 * (t + j));
+  r->step_key[k] = key;
 }
 
 /* The ramps model for one sample, with the silhouette edge first. */
@@ -188,6 +272,7 @@ void shade_toon_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, f
     for (int k = k0; k < k1; k++) {
       shade_row_sample(r, o, k, &s);
       toon_ramp_sample(&s, st, rgb + (size_t)k * stride);
+      if (r->step_key) toon_ramp_levels(r, &s, st, k);
     }
     return;
   }

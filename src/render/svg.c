@@ -127,6 +127,7 @@ int svg_render_scene(const Scene *s, const RenderOptions *o, const char *path) {
   ro.strokes = &sl;
   ro.out8 = 0;
   ro.rows = NULL;
+  ro.aliased = 1;   /* regions are traced from the colours: hard edges, the SVG renderer smooths them */
   Image *img = NULL;
   GBuffer *g = NULL;
   if (render_scene(s, &ro, &img, &g) != 0) return 1;

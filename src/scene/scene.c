@@ -10,6 +10,7 @@ void scene_init(Scene *s) {
   memset(s, 0, sizeof *s);
   arena_init(&s->arena);
   s->output.samples = 1;
+  s->output.antialias = 1;
   s->output.background = (Color){1, 1, 1, 1};
   s->output.sheet = scene_default_sheet();
   s->output.loc = src_none();

@@ -31,6 +31,7 @@ typedef struct SceneSheet {
 typedef struct SceneOutput {
   int width, height;          /* 0 = not set (defaults to 640x480) */
   int samples;                /* N x N samples a pixel, >= 1 */
+  int antialias;              /* 1 (default): edges and toon bands by coverage */
   Color background;
   SceneSheet sheet;
   SrcRange loc;

@@ -347,9 +347,12 @@ static void build_scene(Scene *s, ShadeKind kind) {
   }
 }
 
-TEST(identical_bytes_at_1_2_8_threads) {
+/* The frame at 1, 2 and 8 threads, with a whole G-buffer kept or per
+** tile, float or 8-bit: the same bytes, antialiased (aa) or not. */
+static void check_identical_bytes(int aa) {
   Scene s;
   build_scene(&s, SHADE_TOON);
+  s.output.antialias = aa;
   Image *img[3];
   GBuffer *gb[3];
   int threads[3] = {1, 2, 8};
@@ -392,6 +395,9 @@ TEST(identical_bytes_at_1_2_8_threads) {
   for (int k = 0; k < 3; k++) { image_destroy(img[k]); gbuf_destroy(gb[k]); }
   arena_free(&s.arena);
 }
+
+TEST(identical_bytes_at_1_2_8_threads) { check_identical_bytes(0); }
+TEST(identical_bytes_at_1_2_8_threads_antialiased) { check_identical_bytes(1); }
 
 /* One sample a pixel in a wide frame: the tiles beside the spheres hold no
 ** triangle and are written as background straight away (render.c). The
@@ -710,6 +716,7 @@ int main(void) {
   RUN(auto_camera_frames_box);
   RUN(unproject_inverts_projection);
   RUN(identical_bytes_at_1_2_8_threads);
+  RUN(identical_bytes_at_1_2_8_threads_antialiased);
   RUN(empty_tiles_give_the_background);
   RUN(closed_mesh_has_no_cracks);
   RUN(back_face_culling_only_when_hidden);
