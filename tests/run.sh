@@ -7,6 +7,7 @@
 #   tests/render/x.npr  -> x.png  golden image, compared by imgcmp with a tolerance
 #                       -> x.svg  (when present) exact text of `sumi render x.npr -o x.svg`
 #                       with "// svg: TOLERANCE", x.svg drawn by rsvg-convert against x.png
+#   docs/*.md ```npr blocks  each renders (small) with status 0 and no output
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #
 # A line "// args: ..." among the first three gives extra options (and in
@@ -88,6 +89,26 @@ for f in "$ROOT"/tests/render/*.npr; do
     fail "render/$name"; sed 's/^/  /' "$OUT/$name.cmp" 2>/dev/null
     echo "  got: $OUT/$name.png  diff: $OUT/$name.diff.png"
   fi
+done
+
+# Docs: every ```npr block of docs/*.md is a whole scene, run from where it
+# stands (docs/: `../examples/...` reaches the examples' files): it must
+# render small with status 0 and print nothing (a warning fails it too).
+rm -rf "$OUT/docs"; mkdir -p "$OUT/docs"
+ln -sfn "$ROOT/examples" "$OUT/examples"
+for md in "$ROOT"/docs/*.md; do
+  awk -v dir="$OUT/docs" -v base="$(basename "$md" .md)" '
+    /^```npr *$/ { f = dir "/" base "_" NR ".npr"; next }
+    /^```/ { if (f) close(f); f = ""; next }
+    f { print > f }' "$md"
+done
+for f in "$OUT"/docs/*.npr; do
+  [ -e "$f" ] || continue
+  name=$(basename "$f" .npr)
+  where="docs/${name%_*}.md:${name##*_}"
+  if (cd "$OUT/docs" && "$SUMI" render "$name.npr" -o "$name.png" -W 96 -H 72 >"$name.log" 2>&1) &&
+     [ ! -s "$OUT/docs/$name.log" ]; then pass
+  else fail "$where (snippet)"; sed 's/^/  /' "$OUT/docs/$name.log" | head -10; fi
 done
 
 # SVG snapshots: tests/render/x.svg is the exact text of rendering x.npr to SVG.

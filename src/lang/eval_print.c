@@ -80,12 +80,24 @@ static void print_light(int i, const SceneLight *l, FILE *out) {
   char pre[32];
   snprintf(pre, sizeof pre, "light[%d].", i);
   if (l->name) fprintf(out, "%sname %s\n", pre, l->name);
-  if (l->kind == LIGHT_POINT) { fprintf(out, "%sposition ", pre); put_vec3(out, l->position); }
+  if (l->kind != LIGHT_DIRECTIONAL) { fprintf(out, "%sposition ", pre); put_vec3(out, l->position); }
   else { fprintf(out, "%sdirection ", pre); put_vec3(out, l->direction); }
   fputc('\n', out);
+  if (l->kind == LIGHT_SPOT) {
+    fprintf(out, "%spoint_at ", pre);
+    put_vec3(out, l->point_at);
+    fputc('\n', out);
+    line_num(out, pre, "cone", l->cone);
+    line_num(out, pre, "penumbra", l->penumbra);
+  }
   line_color(out, pre, "color", l->color);
   line_num(out, pre, "strength", l->strength);
   fprintf(out, "%sfalloff %s\n", pre, l->falloff == FALLOFF_INVERSE_SQUARE ? "inverse_square" : "none");
+  if (!l->shadow) return;   /* scenes without shadows print as they always have */
+  fprintf(out, "%sshadow true\n", pre);
+  fprintf(out, "%sshadow_resolution %d\n", pre, l->shadow_resolution);
+  line_num(out, pre, "shadow_bias", l->shadow_bias);
+  line_num(out, pre, "shadow_filter", l->shadow_filter);
 }
 
 static void print_ramp(FILE *out, const char *pre, const char *key, const Color *c, int n) {

@@ -328,8 +328,7 @@ static int cv_ortho(Ctx *c, const Prop *p, const Row *r, void *t) {
 }
 
 static int cv_light_position(Ctx *c, const Prop *p, const Row *r, void *t) {
-  SceneLight *l = t;
-  l->kind = LIGHT_POINT;
+  SceneLight *l = t;   /* a point light (the default kind), or a spot's place */
   return to_vec3(c, p, 0, &l->position);
 }
 
@@ -341,6 +340,14 @@ static int cv_light_direction(Ctx *c, const Prop *p, const Row *r, void *t) {
     return -1;
   }
   l->kind = LIGHT_DIRECTIONAL;
+  return 0;
+}
+
+/* point_at [x, y, z]; makes the light a spot aimed there. */
+static int cv_light_point_at(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneLight *l = t;
+  if (to_vec3(c, p, 0, &l->point_at)) return -1;
+  l->kind = LIGHT_SPOT;
   return 0;
 }
 
@@ -829,6 +836,13 @@ static const Row light_rows[] = {
   TYPED("color", T_COLOR, SceneLight, color),
   NUM("strength", SceneLight, strength, 0, INFINITY, 1),
   SYM("falloff", SceneLight, falloff, "none|inverse_square"),
+  CUSTOM("point_at", cv_light_point_at, 0),
+  NUM("cone", SceneLight, cone, 0.1, 89, 30),
+  NUM("penumbra", SceneLight, penumbra, 0, 89, 5),
+  BOOL("shadow", SceneLight, shadow),
+  INT("shadow_resolution", SceneLight, shadow_resolution, 16, SCHEMA_MAX_SHADOW_RESOLUTION, 1024),
+  NUM("shadow_bias", SceneLight, shadow_bias, 0, 64, 1),
+  NUM("shadow_filter", SceneLight, shadow_filter, 1, 32, 2),
 };
 
 static const Row style_rows[] = {
@@ -1067,6 +1081,7 @@ static const struct { const char *kind, *word, *instead; } placeholders[] = {
   /* not missing, but with nothing left to do (docs/styles.md, lines) */
   {"lines", "search_width", "`search_width` has no effect: each edge is tested on its own line, so "
                             "tracing has nothing beside it to search"},
+  {"light", "shadow", "shadows are not drawn yet: the light reaches every surface"},
 };
 
 /* Warn at `at` when kind (with word, or NULL) is a placeholder. */
@@ -1500,6 +1515,48 @@ static int emit_sheet(Ctx *c, const BlockVal *b, SceneOutput *o) {
   return 0;
 }
 
+/* The property named name in b, or NULL. */
+static const Prop *prop_named(const BlockVal *b, const char *name) {
+  for (int i = 0; i < b->nprops; i++)
+    if (!strcmp(b->props[i].name, name)) return &b->props[i];
+  return NULL;
+}
+
+/* A light is a point (position), a sun (direction) or a spot (position
+** and point_at); a spot's cone properties need point_at, and its fade
+** lies inside its cone. */
+static int check_light(Ctx *c, const BlockVal *b, const SceneLight *l) {
+  const Prop *pos = prop_named(b, "position"), *dir = prop_named(b, "direction");
+  const Prop *at = prop_named(b, "point_at"), *cone = prop_named(b, "cone"), *pen = prop_named(b, "penumbra");
+  if (!pos == !dir) {
+    ev_error(c->ev, b->loc, pos ? "a `light` has `position` (a point light) or `direction` (a sun), not both"
+                                : "`light` block needs `position` (a point light) or `direction` (a sun)");
+    return -1;
+  }
+  if (at && dir) {
+    ev_error(c->ev, name_range(at), "`point_at` makes a spot light, which needs `position`, not `direction`");
+    return -1;
+  }
+  if (!at && (cone || pen)) {
+    ev_error(c->ev, name_range(cone ? cone : pen), "`%s` is a spot light's: it needs `point_at` (where the spot aims)",
+             cone ? "cone" : "penumbra");
+    return -1;
+  }
+  if (at && v3_len(v3_sub(l->point_at, l->position)) == 0) {
+    ev_error(c->ev, at->vloc[0], "`point_at` in `light` is its `position`: a spot needs a direction to aim");
+    return -1;
+  }
+  if (pen && l->penumbra > l->cone) {
+    char a[32], b2[32];
+    val_format_number(a, sizeof a, l->penumbra);
+    val_format_number(b2, sizeof b2, l->cone);
+    ev_error(c->ev, pen->vloc[0], "`penumbra` in `light` is %s degrees, wider than its `cone` of %s: the fade lies "
+             "inside the cone", a, b2);
+    return -1;
+  }
+  return 0;
+}
+
 /* camera and output may appear once: a second points at the first. */
 static int once(Ctx *c, const BlockVal *b, SrcRange first, int present) {
   if (!present) return 0;
@@ -1537,17 +1594,7 @@ static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
   l.position = v3(0, 0, 10);
   l.color = (Color){1, 1, 1, 1};
   l.loc = b->loc;
-  if (check_props(c, s, b, &l) || no_subs(c, b)) return -1;
-  int pos = 0, dir = 0;
-  for (int i = 0; i < b->nprops; i++) {
-    pos |= strcmp(b->props[i].name, "position") == 0;
-    dir |= strcmp(b->props[i].name, "direction") == 0;
-  }
-  if (pos == dir) {
-    ev_error(c->ev, b->loc, pos ? "a `light` has `position` (a point light) or `direction` (a sun), not both"
-                                : "`light` block needs `position` (a point light) or `direction` (a sun)");
-    return -1;
-  }
+  if (check_props(c, s, b, &l) || no_subs(c, b) || check_light(c, b, &l)) return -1;
   sc->lights = grow(c, sc->lights, sc->nlights, sizeof *sc->lights);
   sc->lights[sc->nlights++] = l;
   return 0;

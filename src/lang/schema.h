@@ -17,6 +17,10 @@
 /* Most samples a pixel side `samples N` may ask for. */
 #define SCHEMA_MAX_SAMPLES 16
 
+/* Largest side of a shadow map `shadow_resolution N` may ask for (a float
+** map of 8192 x 8192 is 256 MiB; render/shadow.h bounds a frame's total). */
+#define SCHEMA_MAX_SHADOW_RESOLUTION 8192
+
 /* Most points a strength curve (`facing`, `light` in shade threshold) may have. */
 #define SCHEMA_MAX_CURVE 64
 

@@ -175,6 +175,12 @@ static void prepare_lights(const Scene *s, RenderFrame *f) {
     l->color[1] = (float)(sl->color.g * sl->strength);
     l->color[2] = (float)(sl->color.b * sl->strength);
     l->inverse_square = sl->falloff == FALLOFF_INVERSE_SQUARE;
+    l->spot = sl->kind == LIGHT_SPOT;
+    if (!l->spot) continue;
+    set3(l->axis, v3_norm(v3_sub(sl->point_at, sl->position)));
+    double edge = cos(sl->cone * M_PI / 180), inner = cos((sl->cone - sl->penumbra) * M_PI / 180);
+    l->cos_edge = (float)edge;
+    l->inv_fade = inner - edge > 1e-7 ? (float)(1 / (inner - edge)) : 1e30f;   /* no penumbra: a hard edge */
   }
 }
 

@@ -78,13 +78,19 @@ typedef struct RenderOptions {
                                     back here (stroke_list_free) instead of drawing them */
 } RenderOptions;
 
-/* A light resolved for shading: floats, world space. */
+/* A light resolved for shading: floats, world space. A spot is a point
+** light whose light is limited to a cone (shade_spot). */
 typedef struct RenderLight {
   int directional;
   float pos[3];        /* point light position */
   float dir[3];        /* directional: unit vector toward the light */
   float color[3];      /* linear colour times strength */
   int inverse_square;  /* point light falls off as 1 / d^2 */
+  int spot;            /* a spot: lit within its cone only */
+  float axis[3];       /* spot: unit vector along its axis, away from the light */
+  float cos_edge;      /* spot: cosine of the angle from the axis to the cone's edge */
+  float inv_fade;      /* spot: 1 / (cos of where the fade ends - cos_edge) */
+  const struct ShadowMap *shadow;   /* its shadow maps (shadow.h), or NULL: it casts none */
 } RenderLight;
 
 /* shade threshold's layers, resolved once a frame (shade_threshold.c), and

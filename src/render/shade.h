@@ -201,8 +201,21 @@ static inline float shade_point_light(const RenderLight *lt, float x, float y, f
   return lt->inverse_square & (d2 > 0) ? 1 / d2 : 1;
 }
 
+/* Spot light lt's factor for unit vector (lx, ly, lz) toward it: 1 within
+** its cone less the penumbra, 0 outside the cone, and between them a
+** smoothstep in the cosine of the angle off the axis. Its callers multiply
+** the falloff by it after shade_point_light, in that order, so the bits
+** are the same everywhere. */
+static inline float shade_spot(const RenderLight *lt, float lx, float ly, float lz) {
+  float c = -(lx * lt->axis[0] + ly * lt->axis[1] + lz * lt->axis[2]);   /* cos off the axis */
+  float t = (c - lt->cos_edge) * lt->inv_fade;
+  t = t > 0 ? (t < 1 ? t : 1) : 0;                   /* NaN (a light at p) too goes to 0 */
+  return t * t * (3 - 2 * t);
+}
+
 /* Unit vector toward light i from world point p into l, and the light's
-** colour arriving there (with falloff) into col. */
+** colour arriving there (with falloff and a spot's cone; no shadow) into
+** col. */
 static inline void shade_light(const RenderFrame *f, int i, const float p[3], float l[3], float col[3]) {
   const RenderLight *lt = &f->lights[i];
   float k = 1;
@@ -210,6 +223,7 @@ static inline void shade_light(const RenderFrame *f, int i, const float p[3], fl
     l[0] = lt->dir[0]; l[1] = lt->dir[1]; l[2] = lt->dir[2];
   } else {
     k = shade_point_light(lt, p[0], p[1], p[2], &l[0], &l[1], &l[2]);
+    if (lt->spot) k *= shade_spot(lt, l[0], l[1], l[2]);
   }
   col[0] = lt->color[0] * k;
   col[1] = lt->color[1] * k;

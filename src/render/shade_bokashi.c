@@ -46,6 +46,7 @@ static float light_at_centre(const RenderFrame *f, int i, const float c[3], floa
   float x = lt->pos[0] - c[0], y = lt->pos[1] - c[1], z = lt->pos[2] - c[2];
   float d2 = x * x + y * y + z * z, inv = d2 > 0 ? 1 / sqrtf(d2) : 0;
   d[0] = x * inv; d[1] = y * inv; d[2] = z * inv;
+  if (lt->spot) s *= shade_spot(lt, d[0], d[1], d[2]);   /* c outside its cone: no light */
   return d2 > 0 ? s / d2 : 0;
 }
 

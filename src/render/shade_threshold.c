@@ -521,6 +521,8 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
   }
   const float *px = r->px + k0, *py = r->py + k0, *pz = r->pz + k0;
   for (int j = 0; j < n; j++) fall[j] = shade_point_light(lt, px[j], py[j], pz[j], &lx[j], &ly[j], &lz[j]);
+  if (lt->spot)   /* its own loop: a point light's stays as it was */
+    for (int j = 0; j < n; j++) fall[j] *= shade_spot(lt, lx[j], ly[j], lz[j]);
 }
 
 /* The bands for the block's samples (samples k0.. of r): each light's

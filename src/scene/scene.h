@@ -48,17 +48,24 @@ typedef struct SceneCamera {
   SrcRange loc;
 } SceneCamera;
 
-typedef enum { LIGHT_POINT, LIGHT_DIRECTIONAL } LightKind;
+typedef enum { LIGHT_POINT, LIGHT_DIRECTIONAL, LIGHT_SPOT } LightKind;
 typedef enum { FALLOFF_NONE, FALLOFF_INVERSE_SQUARE } LightFalloff;
 
 typedef struct SceneLight {
   const char *name;           /* `light NAME { }`, or NULL */
   LightKind kind;
-  Vec3 position;              /* LIGHT_POINT */
+  Vec3 position;              /* LIGHT_POINT, LIGHT_SPOT */
   Vec3 direction;             /* LIGHT_DIRECTIONAL: the way the rays travel */
+  Vec3 point_at;              /* LIGHT_SPOT: a point on its axis */
+  double cone;                /* LIGHT_SPOT: degrees from the axis to the cone's edge */
+  double penumbra;            /* LIGHT_SPOT: degrees inside the edge over which it fades in */
   Color color;
   double strength;
   LightFalloff falloff;
+  int shadow;                 /* casts shadows (shadow maps: render/shadow.h) */
+  int shadow_resolution;      /* texels a side of each of its maps */
+  double shadow_bias;         /* depth bias, in texels of its map */
+  double shadow_filter;       /* percentage-closer filter: a box this many texels wide */
   SrcRange loc;
 } SceneLight;
 
