@@ -6,7 +6,9 @@
 # difference at any pixel (aim: 2 grey levels) and the time ratio (aim: at
 # most 1.5x OpenCV's). Then a threshold texture's whole mip pyramid (CLAHE
 # and ranking at every level, src/render/texture.c) against one level of
-# it at the same window (aim: at most 2x). Medians of 21 runs in process.
+# it at the same window (aim: at most 2x). Each run is the median of 21 in
+# process; ROUNDS (5) runs of sumi and OpenCV alternate; the medians of the
+# rounds, and of the ratios within a round, are printed.
 # Skipped without python3-opencv or python3-skimage.
 #   sh bench/clahe.sh [BUILD_DIR]
 set -e
@@ -23,14 +25,27 @@ OBJS=$(find "$BUILD/src" -name '*.o' ! -name main.o)
 cc -std=c11 -D_DEFAULT_SOURCE -O2 -o "$DIR/clahe_bench" bench/clahe_bench.c $OBJS \
    $(sed -n 's/^LDLIBS *:= *//p' Makefile)
 "$PY" bench/clahe_mosaic.py "$DATA" "$DIR/clahe_in.png"
-echo "CLAHE, 1024x1024 (skimage brick, grass, gravel, camera), 1 thread, median of 21 runs:"
+echo "CLAHE, 1024x1024 (skimage brick, grass, gravel, camera), 1 thread, medians of 5 alternating rounds:"
 printf '  %-22s %9s %9s %7s %9s | %9s %9s %7s\n' "tiles, clip" "sumi ms" "opencv ms" "ratio" "max diff" "level ms" "pyramid" "ratio"
+ROUNDS=${ROUNDS:-5}
 for cfg in "64 64 4" "64 64 0" "16 16 2" "8 8 40"; do
   set -- $cfg
-  set -- $1 $2 $3 $("$DIR/clahe_bench" "$DIR/clahe_in.png" $1 $2 $3 "$DIR/clahe_sumi.raw")
-  s_ms=$4; l_ms=$5; p_ms=$6
-  set -- $1 $2 $3 $s_ms $l_ms $p_ms $("$PY" bench/clahe_opencv.py "$DIR/clahe_in.png" $1 $2 $3 "$DIR/clahe_sumi.raw")
-  awk -v cfg="$1x$2, clip $3" -v s="$4" -v o="$7" -v d="$8" -v l="$5" -v p="$6" 'BEGIN {
-    printf "  %-22s %9.2f %9.2f %6.2fx %9d | %9.2f %9.2f %6.2fx\n", cfg, s, o, s / o, d, l, p, p / l }'
+  : >"$DIR/clahe_rounds.txt"
+  r=0
+  while [ "$r" -lt "$ROUNDS" ]; do   # sumi and OpenCV in turn, so a busy spell falls on both
+    s=$("$DIR/clahe_bench" "$DIR/clahe_in.png" $1 $2 $3 "$DIR/clahe_sumi.raw")
+    o=$("$PY" bench/clahe_opencv.py "$DIR/clahe_in.png" $1 $2 $3 "$DIR/clahe_sumi.raw")
+    echo "$s $o" >>"$DIR/clahe_rounds.txt"
+    r=$((r + 1))
+  done
+  "$PY" - "$DIR/clahe_rounds.txt" "$1x$2, clip $3" <<'PY'
+import statistics, sys
+rows = [list(map(float, l.split())) for l in open(sys.argv[1]) if l.strip()]
+s, l, p, o, d = ([r[i] for r in rows] for i in range(5))
+med = statistics.median
+print("  %-22s %9.2f %9.2f %6.2fx %9d | %9.2f %9.2f %6.2fx" % (
+    sys.argv[2], med(s), med(o), med([a / b for a, b in zip(s, o)]), max(d), med(l), med(p),
+    med([b / a for a, b in zip(l, p)])))
+PY
 done
 echo "  (aims: max diff <= 2 grey levels, sumi <= 1.5x OpenCV; pyramid <= 2x one level)"

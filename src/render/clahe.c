@@ -134,6 +134,9 @@ static inline __attribute__((always_inline)) void interpolate(const uint8_t *src
     off1[x] = k1 * BINS;
     off2[x] = k2 * BINS;
   }
+  /* a row's four mapped values per pixel, gathered first, so the blend and
+  ** the rounding after it run in SIMD lanes */
+  float *g = xmalloc(4 * (size_t)w * sizeof *g), *g11 = g, *g12 = g + w, *g21 = g + 2 * w, *g22 = g + 3 * w;
   for (int y = 0; y < h; y++) {
     int k1, k2;
     float ya;
@@ -143,16 +146,21 @@ static inline __attribute__((always_inline)) void interpolate(const uint8_t *src
     const uint8_t *s = src + (size_t)y * w;
     for (int x = 0; x < w; x++) {
       int v = s[x], i1 = off1[x] + v, i2 = off2[x] + v;
-      float r = ((float)l1[i1] * xa1[x] + (float)l1[i2] * xa[x]) * ya1 +
-                ((float)l2[i1] * xa1[x] + (float)l2[i2] * xa[x]) * ya;
-      if (dstf) {
-        dstf[(size_t)y * w + x] = r;
-      } else {
-        long q = lrintf(r);   /* to nearest, ties to even */
-        dst8[(size_t)y * w + x] = (uint8_t)(q < 0 ? 0 : q > 255 ? 255 : q);
+      g11[x] = l1[i1]; g12[x] = l1[i2]; g21[x] = l2[i1]; g22[x] = l2[i2];
+    }
+    if (dstf) {
+      float *d = dstf + (size_t)y * w;
+      for (int x = 0; x < w; x++)
+        d[x] = (g11[x] * xa1[x] + g12[x] * xa[x]) * ya1 + (g21[x] * xa1[x] + g22[x] * xa[x]) * ya;
+    } else {
+      uint8_t *d = dst8 + (size_t)y * w;
+      for (int x = 0; x < w; x++) {   /* in [0, 255]: to nearest, ties to even, as in region_lut */
+        float r = (g11[x] * xa1[x] + g12[x] * xa[x]) * ya1 + (g21[x] * xa1[x] + g22[x] * xa[x]) * ya;
+        d[x] = (uint8_t)(int)((r + 0x1.8p23f) - 0x1.8p23f);
       }
     }
   }
+  free(g);
   free(off1);
   free(off2);
   free(xa);
