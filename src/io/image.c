@@ -32,16 +32,19 @@
 
 #define BRIDGE_NAME "libsumi_oiio.so"
 
-/* Buckets of the linear -> sRGB 8-bit encoder, indexed by a float's bits:
-** the exponent and the top SRGB_MANT_BITS mantissa bits, for values from
+/* Buckets of the linear -> sRGB 8-bit encoder, indexed by the top bits of
+** a float (sign, exponent and SRGB_MANT_BITS mantissa bits): every
+** float has one, so the encoder needs no range tests. Between
 ** 2^SRGB_MIN_EXP (below it every value is code 0: the first threshold is
-** ~1.5e-4) up to 1. Each bucket is narrower than the gap between two code
+** ~1.5e-4) and 1 each bucket is narrower than the gap between two code
 ** thresholds in its octave, so a bucket's first code is at most one below
 ** the answer (srgb_init checks this). */
 #define SRGB_MANT_BITS 7
 #define SRGB_MIN_EXP (-13)
 #define SRGB_LO_BITS ((uint32_t)(127 + SRGB_MIN_EXP) << 23)   /* bits of 2^SRGB_MIN_EXP */
-#define SRGB_BUCKETS (((uint32_t)-SRGB_MIN_EXP) << SRGB_MANT_BITS)
+#define SRGB_ONE_BITS 0x3f800000u                               /* bits of 1.0f */
+#define SRGB_NAN_BITS 0x7f800001u                               /* the smallest NaN's bits */
+#define SRGB_SHIFT (23 - SRGB_MANT_BITS)                        /* bits -> bucket */
 
 /* Attempts at a fresh temporary name before giving up (a name is taken
 ** only if a file of that name already exists). */
@@ -66,7 +69,8 @@ static pthread_once_t srgb_once = PTHREAD_ONCE_INIT;
 static float srgb_decode[256];              /* code -> linear */
 static double srgb_threshold[257];          /* smallest linear value of each code */
 static float srgb_threshold_f[257];         /* the smallest float at or above each */
-static uint8_t srgb_bucket[SRGB_BUCKETS];   /* code of each bucket's smallest value */
+static uint8_t srgb_bucket[1u << (32 - SRGB_SHIFT)];   /* by a float's top bits: its bucket's first code */
+static uint32_t srgb_next_bits[256];        /* by code: the bits where the next code starts */
 
 static double srgb_to_linear_d(double s) {
   return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
@@ -106,25 +110,31 @@ static void srgb_init(void) {
   if (!(srgb_threshold_f[1] > float_of_bits(SRGB_LO_BITS)))
     sumi_fatal("srgb_init: code 1 starts below 2^%d", SRGB_MIN_EXP);
   int k = 0;   /* codes rise with the buckets: each search starts where the last ended */
-  for (uint32_t b = 0; b < SRGB_BUCKETS; b++) {
-    uint32_t lo = SRGB_LO_BITS + (b << (23 - SRGB_MANT_BITS));
+  for (uint32_t b = SRGB_LO_BITS >> SRGB_SHIFT; b < SRGB_ONE_BITS >> SRGB_SHIFT; b++) {
+    uint32_t lo = b << SRGB_SHIFT;
     k = code_from(float_of_bits(lo), k);
-    int top = code_from(float_of_bits(lo + (1u << (23 - SRGB_MANT_BITS)) - 1), k);
+    int top = code_from(float_of_bits(lo + (1u << SRGB_SHIFT) - 1), k);
     if (top > k + 1) sumi_fatal("srgb_init: bucket %u spans codes %d..%d", (unsigned)b, k, top);
     srgb_bucket[b] = (uint8_t)k;
   }
+  /* Below 2^SRGB_MIN_EXP: code 0 (its bits stay below code 1's). From 1.0
+  ** up, and every negative float and NaN: 255, plus one (wrapping to 0)
+  ** where the bits reach the smallest NaN's, which only +inf's do not. */
+  for (uint32_t b = SRGB_ONE_BITS >> SRGB_SHIFT; b < 1u << (32 - SRGB_SHIFT); b++) srgb_bucket[b] = 255;
+  for (int c = 0; c < 255; c++) memcpy(&srgb_next_bits[c], &srgb_threshold_f[c + 1], sizeof srgb_next_bits[c]);
+  srgb_next_bits[255] = SRGB_NAN_BITS;
 }
 
-/* The code whose threshold interval holds v: round(255 * srgb(v)) exactly.
-** The bucket of v's bits gives the code or the one below it. */
+/* The code whose threshold interval holds v: round(255 * srgb(v)) exactly,
+** 0 for negatives and NaN, 255 from 1 up. The bucket of v's top bits
+** gives the code or the one below it; positive floats are ordered as their
+** bits are, so one integer test against the next code's threshold settles
+** it: no branch, no range test. */
 static inline uint8_t encode8(float v) {
-  if (!(v > 0.0f)) return 0;               /* negative, zero or NaN */
-  if (v >= 1.0f) return 255;
   uint32_t u;
   memcpy(&u, &v, sizeof u);
-  if (u < SRGB_LO_BITS) return 0;          /* below 2^SRGB_MIN_EXP */
-  int k = srgb_bucket[(u - SRGB_LO_BITS) >> (23 - SRGB_MANT_BITS)];
-  return (uint8_t)(k + (v >= srgb_threshold_f[k + 1]));
+  unsigned k = srgb_bucket[u >> SRGB_SHIFT];
+  return (uint8_t)(k + (u >= srgb_next_bits[k]));
 }
 
 static inline uint8_t alpha8(float a) {
@@ -201,19 +211,28 @@ static size_t image_values(const Image *img) {
   return (size_t)img->width * (size_t)img->height * (size_t)img->channels;
 }
 
+/* Do RGB pixels a and b hold the same bits? */
+static inline int same_rgb(const float *a, const float *b) { return !memcmp(a, b, 3 * sizeof *a); }
+
+static inline void encode_rgb8(const float *a, uint8_t *d) {
+  d[0] = encode8(a[0]), d[1] = encode8(a[1]), d[2] = encode8(a[2]);
+}
+
 /* Encode npix pixels of nc channels (alpha at ac, or -1) to 8-bit codes.
 ** Flat regions are the rule in stylised images, so a pixel whose bits
 ** equal the one before it reuses its codes (equal bits, equal codes); in
 ** RGB a whole run of them is encoded once and copied in a few long stores
-** (a 3-byte store a pixel costs more than the encoding). */
+** (a 3-byte store a pixel costs more than the encoding); the pixels
+** between runs (noise, gradients) are encoded as the scan passes them. */
 static void encode_pixels8(const float *src, uint8_t *dst, size_t npix, int nc, int ac) {
-  if (nc == 3 && ac < 0) {   /* opaque RGB, the common case: a run of equal pixels at a time */
-    for (size_t p = 0, q; p < npix; p = q) {
-      const float *a = src + 3 * p;
-      for (q = p + 1; q < npix && !memcmp(src + 3 * q, a, 3 * sizeof *a); q++) {}
-      uint8_t *d = dst + 3 * p;
-      d[0] = encode8(a[0]); d[1] = encode8(a[1]); d[2] = encode8(a[2]);
-      for (size_t done = 1, left = q - p - 1; left > 0;) {   /* copies double: few, long stores */
+  if (nc == 3 && ac < 0) {   /* opaque RGB, the common case */
+    for (size_t p = 0, q, e; p < npix; p = e) {
+      q = p;
+      do encode_rgb8(src + 3 * q, dst + 3 * q);                /* p .. q - 1: each differs from its left */
+      while (++q < npix && !same_rgb(src + 3 * q, src + 3 * q - 3));
+      for (e = q; e < npix && same_rgb(src + 3 * e, src + 3 * q - 3); e++) {}
+      uint8_t *d = dst + 3 * (q - 1);                           /* q .. e - 1 repeat q - 1 */
+      for (size_t done = 1, left = e - q; left > 0;) {          /* copies double: few, long stores */
         size_t k = done < left ? done : left;
         memcpy(d + 3 * done, d, 3 * k);
         done += k;

@@ -139,6 +139,79 @@ TEST(srgb_encoder_matches_formula) {
   CHECK(checked > 199000);
 }
 
+/* Code k's threshold srgb^-1((k - 0.5) / 255), k = 1..255, in double. */
+static double srgb_threshold_ref(int k) {
+  double s = (k - 0.5) / 255.0;
+  return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
+}
+
+/* The code of v by its definition: 0 for NaN and v <= 0, else the number
+** of code thresholds at or below v (so 255 from 1 up). */
+static int srgb_code_reference(float v) {
+  static double t[256];
+  if (t[1] == 0)
+    for (int k = 1; k < 256; k++) t[k] = srgb_threshold_ref(k);
+  if (!(v > 0)) return 0;
+  int lo = 0, hi = 255;   /* t[lo] <= v (t[0] as -inf), t[hi + 1] > v (t[256] as +inf) */
+  while (lo < hi) {
+    int mid = (lo + hi + 1) / 2;
+    if ((double)v >= t[mid]) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+static float float_bits(uint32_t u) {
+  float f;
+  memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+/* The encoder takes a bucket by a float's top 16 bits and one test of its
+** bits against a threshold: every class of float pattern gives its
+** defined code through the one-value and the row encoder. Tested: both
+** ends and the middle of every top-16-bit bucket (all signs, exponents,
+** denormals, infinities and NaN payloads), a few ulps on each side of every
+** code threshold, and a stride through all 2^32 patterns. */
+TEST(srgb_encoder_every_float_class) {
+  enum { MAX = 3 * 65536 + 9 * 255 + 65556 + 16 };   /* the patterns below */
+  uint32_t *bits = malloc(MAX * sizeof *bits);
+  int n = 0;
+  for (uint32_t b = 0; b < 1u << 16; b++) {
+    bits[n++] = b << 16;
+    bits[n++] = b << 16 | 0x8000u;
+    bits[n++] = b << 16 | 0xffffu;
+  }
+  for (int k = 1; k < 256; k++) {   /* the float nearest each threshold, +-4 ulps */
+    float f = (float)srgb_threshold_ref(k);
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    for (int d = -4; d <= 4; d++) bits[n++] = u + (uint32_t)d;
+  }
+  for (uint64_t u = 0; u < 1ull << 32; u += 65521) bits[n++] = (uint32_t)u;
+  uint32_t special[] = {0x7f800000u, 0x7f800001u, 0x7fc00000u, 0x7fffffffu, 0xff800000u,
+                        0xff800001u, 0xffffffffu, 0x80000000u, 0x00000001u, 0x3f7fffffu};
+  for (size_t i = 0; i < sizeof special / sizeof *special; i++) bits[n++] = special[i];
+  float *px = malloc((size_t)n * 3 * sizeof *px);
+  uint8_t *out = malloc((size_t)n * 3);
+  int bad = 0;
+  for (int i = 0; i < n; i++) {
+    float v = float_bits(bits[i]);
+    int want = srgb_code_reference(v);
+    if (image_linear_to_srgb8(v) != want && bad++ < 5)
+      fprintf(stderr, "  bits %08x: %d, expected %d\n", (unsigned)bits[i], image_linear_to_srgb8(v), want);
+    for (int c = 0; c < 3; c++) px[3 * i + c] = float_bits(bits[(i + c * (i & 1)) % n]);   /* some pixels grey */
+  }
+  for (int i = 0; i + 1 < n; i += 7) memcpy(px + 3 * (i + 1), px + 3 * i, 3 * sizeof *px);   /* runs of two */
+  image_encode8(px, out, (size_t)n, 3);
+  for (int i = 0; i < 3 * n; i++) bad += out[i] != srgb_code_reference(px[i]);
+  CHECK_EQ_INT(bad, 0);
+  CHECK(n <= MAX);
+  free(out);
+  free(px);
+  free(bits);
+}
+
 /* ---- round trips ------------------------------------------------------ */
 
 static void round_trip_exact(const char *name, int ch) {
@@ -766,6 +839,7 @@ int main(void) {
   RUN(srgb_known_values);
   RUN(srgb_codes_round_trip);
   RUN(srgb_encoder_matches_formula);
+  RUN(srgb_encoder_every_float_class);
   RUN(row_encoder_matches_one_value_encoder);
   RUN(png_round_trip_exact);
   RUN(tiff_round_trip_exact);
