@@ -148,7 +148,8 @@ typedef struct RenderObject {
   unsigned char *backfacing;   /* per triangle: its front faces away from the camera */
   int cull_back;               /* closed, outward and seen from outside: back faces
                                   are hidden, the rasterizer skips them */
-  float (*vcolor)[3];          /* gouraud: per-vertex lit colour, else NULL */
+  float (*vcolor)[3];          /* gouraud: per-vertex lit colour (per triangle corner, 3 a
+                                  triangle, where wcnrm is set), else NULL */
   RenderCentre centre;
   const struct ScreenTexObject *tex;   /* its noise and pattern mapping, or NULL */
   struct BokashiObject *bokashi;       /* its bokashi constants (shade_bokashi.c), or NULL */

@@ -313,24 +313,38 @@ void shade_flat(const ShadeSample *s, float rgb[3]) {
   phong_terms(s->frame, o->style, s->p, ng, s->v, rgb);
 }
 
-/* Gouraud: the vertex colours, interpolated. */
+/* Gouraud: the vertex colours, interpolated; where the mesh has corner
+** normals (hard edges), each corner's own colour. */
 void shade_gouraud(const ShadeSample *s, float rgb[3]) {
   const RenderObject *o = s->obj;
   const int *t = o->mesh->tri[s->face];
+  const float *c0 = o->vcolor[t[0]], *c1 = o->vcolor[t[1]], *c2 = o->vcolor[t[2]];
+  if (o->wcnrm) {
+    c0 = o->vcolor[3 * s->face]; c1 = o->vcolor[3 * s->face + 1]; c2 = o->vcolor[3 * s->face + 2];
+  }
   float b0 = 1 - s->b1 - s->b2;
-  for (int c = 0; c < 3; c++)
-    rgb[c] = b0 * o->vcolor[t[0]][c] + s->b1 * o->vcolor[t[1]][c] + s->b2 * o->vcolor[t[2]][c];
+  for (int c = 0; c < 3; c++) rgb[c] = b0 * c0[c] + s->b1 * c1[c] + s->b2 * c2[c];
+}
+
+/* The phong terms at world point p with normal n turned toward the
+** viewer, into rgb. */
+static void lit_point(const RenderFrame *f, const RenderObject *o, const float p[3], const float nrm[3],
+                      float rgb[3]) {
+  Vec3 vd = camera_view_dir(&f->camera, v3(p[0], p[1], p[2]));
+  float v[3] = {(float)vd.x, (float)vd.y, (float)vd.z};
+  float n[3] = {nrm[0], nrm[1], nrm[2]};
+  if (dot3(n, v) < 0) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+  phong_terms(f, o->style, p, n, v, rgb);
 }
 
 void shade_vertex_colors(const RenderFrame *f, RenderObject *o) {
-  int nv = o->mesh->nverts;
-  o->vcolor = xmalloc((size_t)nv * sizeof *o->vcolor);
-  for (int i = 0; i < nv; i++) {
-    const float *p = o->wpos[i];
-    Vec3 vd = camera_view_dir(&f->camera, v3(p[0], p[1], p[2]));
-    float v[3] = {(float)vd.x, (float)vd.y, (float)vd.z};
-    float n[3] = {o->wnrm[i][0], o->wnrm[i][1], o->wnrm[i][2]};
-    if (dot3(n, v) < 0) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
-    phong_terms(f, o->style, p, n, v, o->vcolor[i]);
+  const Mesh *m = o->mesh;
+  if (o->wcnrm) {   /* hard edges: a colour per corner, from the corner's own normal */
+    o->vcolor = xmalloc((size_t)m->ntris * 3 * sizeof *o->vcolor + 1);
+    for (int t = 0; t < m->ntris; t++)
+      for (int k = 0; k < 3; k++) lit_point(f, o, o->wpos[m->tri[t][k]], o->wcnrm[t][k], o->vcolor[3 * t + k]);
+    return;
   }
+  o->vcolor = xmalloc((size_t)m->nverts * sizeof *o->vcolor + 1);
+  for (int i = 0; i < m->nverts; i++) lit_point(f, o, o->wpos[i], o->wnrm[i], o->vcolor[i]);
 }

@@ -256,7 +256,8 @@ static inline float shade_step(float x, float t, int n) { return shade_step_inv(
 
 /* Per-vertex colours of a gouraud object (o->vcolor, allocated here):
 ** the phong terms at each vertex with its normal turned toward the
-** viewer. */
+** viewer; where the mesh has corner normals (hard edges, as phong
+** honours them), at each triangle corner with its own. */
 void shade_vertex_colors(const RenderFrame *f, RenderObject *o);
 
 /* The centre of o (SceneObject.centre, default its origin) in world space
