@@ -216,9 +216,10 @@ static Shading shading_of(const SceneStyle *style, double pixel_scale) {
   return s;
 }
 
-/* B' at every triangle corner: B' = min(1, wa B + wb R + wc), R from the
-** face's screen bounding box (upper-left corner, y down). */
-static float (*corner_values(const Ctx *c, const Shading *s))[3] {
+/* B' at every face corner (bp, indexed like face_index) and triangle
+** corner (bt): B' = min(1, wa B + wb R + wc), R from the face's screen
+** bounding box (upper-left corner, y down). */
+static float (*corner_values(const Ctx *c, const Shading *s, double **corners))[3] {
   const OrigamiModel *m = c->m;
   float (*bt)[3] = xmalloc((size_t)(m->ntris ? m->ntris : 1) * sizeof *bt);
   double *bp = xmalloc((size_t)(m->face_start[m->nfaces] + 1) * sizeof *bp);
@@ -244,8 +245,44 @@ static float (*corner_values(const Ctx *c, const Shading *s))[3] {
         if (m->face_index[k] == m->tri[t][i]) { bt[t][i] = (float)bp[k]; break; }
     }
   }
-  free(bp);
+  *corners = bp;
   return bt;
+}
+
+/* The value at paper point x of face f of m whose corners carry val
+** (indexed like face_index), interpolated by mean value coordinates
+** (Floater 2003): w_i = (tan(a_(i-1) / 2) + tan(a_i / 2)) / |v_i - x|,
+** a_i the angle at x between corners i and i + 1. They depend on the
+** polygon alone, not on how it is cut into triangles (a fan's colours
+** would depend on the corner it starts at), are the barycentrics on a
+** triangle, and are linear along each edge. */
+static double mean_value(const OrigamiModel *m, int f, Vec2 x, const double *val) {
+  int s = m->face_start[f], n = m->face_start[f + 1] - s;
+  double sum = 0, wsum = 0, t_first = 0, t_prev = 0, r_first = 0;
+  Vec2 v = m->paper[m->face_index[s]];
+  double ax = v.x - x.x, ay = v.y - x.y, ar = hypot(ax, ay);
+  for (int i = 0; i < n; i++) {   /* corner i (a) and i + 1 (b): the edge between them */
+    if (ar < 1e-12) return val[s + i];   /* on a corner */
+    int j = (i + 1) % n;
+    Vec2 u = m->paper[m->face_index[s + j]];
+    double bx = u.x - x.x, by = u.y - x.y, br = hypot(bx, by);
+    double cr = ax * by - ay * bx, d = ax * bx + ay * by;
+    if (br >= 1e-12 && fabs(cr) < 1e-12 * ar * br && d < 0)   /* on the edge: along it */
+      return (br * val[s + i] + ar * val[s + j]) / (ar + br);
+    double t = br < 1e-12 ? 0 : (ar * br - d) / cr;   /* tan(a_i / 2) */
+    if (i == 0) { t_first = t; r_first = ar; }
+    else {
+      double w = (t_prev + t) / ar;
+      sum += w * val[s + i];
+      wsum += w;
+    }
+    t_prev = t;
+    ax = bx, ay = by, ar = br;
+  }
+  double w = (t_prev + t_first) / r_first;   /* corner 0 closes the loop */
+  sum += w * val[s];
+  wsum += w;
+  return wsum != 0 ? sum / wsum : val[s];
 }
 
 /* ---- shaded: pseudo ambient occlusion ------------------------------------- */
@@ -542,6 +579,7 @@ static void sample_texture(const Image *img, double u, double v, float out[3]) {
 typedef struct Paint {
   const Shading *s;
   float (*bt)[3];            /* B' at triangle corners (illustration, shaded) */
+  double *bc;                /* and at face corners, for faces of more than three */
   const float *occ;          /* I per pixel (shaded) */
   TriSetup *ts;
   const Image *texture;
@@ -589,7 +627,17 @@ static void paint_pixel(const Paint *pt, const Ctx *c, int x, int y, OrigamiTarg
     for (int ch = 0; ch < 3; ch++) base[ch] = display_from_linear(tc[ch]);
   }
   float k = 1;                                               /* display-space brightness */
-  if (pt->bt) k = b[0] * pt->bt[tri][0] + b[1] * pt->bt[tri][1] + b[2] * pt->bt[tri][2];
+  const OrigamiModel *m = c->m;
+  if (pt->bt && m->face_start[f + 1] - m->face_start[f] > 3) {   /* over the face, not its triangles */
+    Vec2 q = {0, 0};
+    for (int i = 0; i < 3; i++) {
+      Vec2 v = m->paper[m->tri[tri][i]];
+      q.x += b[i] * v.x, q.y += b[i] * v.y;
+    }
+    k = (float)mean_value(m, f, q, pt->bc);
+  } else if (pt->bt) {
+    k = b[0] * pt->bt[tri][0] + b[1] * pt->bt[tri][1] + b[2] * pt->bt[tri][2];
+  }
   if (pt->occ) k *= pt->occ[p];
   for (int ch = 0; ch < 3; ch++) o[ch] = display_to_linear(k * base[ch]);
 }
@@ -605,7 +653,7 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
   raster_ids(&c, NULL);                                      /* §5.1 */
   Shading s = shading_of(style, t->pixel_scale);
   Paint pt = {.s = &s, .texture = texture};
-  pt.bt = s.mode > 0 ? corner_values(&c, &s) : NULL;         /* §5.3 */
+  pt.bt = s.mode > 0 ? corner_values(&c, &s, &pt.bc) : NULL;   /* §5.3 */
   float *occ = NULL;
   if (s.mode == 2) {                                         /* §5.4 */
     occ = xmalloc(n * sizeof *occ);
@@ -626,6 +674,7 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
   free(pt.ts);
   free(occ);
   free(pt.bt);
+  free(pt.bc);
   free(c.sv);
   free(c.tid);
   free(c.fid);

@@ -441,6 +441,56 @@ TEST(illustration_corner_brightness) {
   origami_free(m);
 }
 
+/* The illustration colour of a face of one piece of paper (a pentagon,
+** boundary creases), its corners listed from corner `start` on, rendered
+** at 96 x 96 into rgba. */
+static void render_piece(int start, float *rgba) {
+  static const double pent[5][2] = {{0, 0}, {2, 0}, {2.4, 1.2}, {1, 2}, {-0.3, 1.4}};
+  double ring[5][2];
+  for (int i = 0; i < 5; i++) {
+    ring[i][0] = pent[(start + i) % 5][0];
+    ring[i][1] = pent[(start + i) % 5][1];
+  }
+  Paper p;
+  paper_init(&p);
+  piece(&p, 5, (const double(*)[2])ring, (const double(*)[2])ring);
+  OrigamiModel *m;
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.shade.kind = SHADE_ORIGAMI;
+  st.shade.origami_mode = 1;
+  Mat4 c = view_box(-0.5, -0.2, 2.6, 2.2);
+  OrigamiTarget t = {96, 96, rgba, NULL, NULL, 1};
+  origami_render(m, &st, &c, NULL, &t);
+  origami_free(m);
+}
+
+/* The colour interpolated across a face does not depend on the corner
+** its list starts at (a fan of triangles from the first corner made it
+** depend: up to 11/255 on a square): mean value coordinates over the
+** polygon. */
+TEST(illustration_independent_of_first_corner) {
+  float *a = xcalloc(96 * 96 * 4, sizeof *a), *b = xcalloc(96 * 96 * 4, sizeof *b);
+  render_piece(0, a);
+  double worst = 0;
+  int covered = 0;
+  for (int start = 1; start < 5; start++) {
+    memset(b, 0, 96 * 96 * 4 * sizeof *b);
+    render_piece(start, b);
+    for (int i = 0; i < 96 * 96; i++) {
+      covered += start == 1 && a[i * 4 + 3] > 0;
+      for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(to_display(a[i * 4 + k]) - to_display(b[i * 4 + k])));
+    }
+  }
+  CHECK(covered > 96 * 96 / 3);   /* the face is there */
+  CHECK(worst < 0.5 / 255);
+  if (!(worst < 0.5 / 255)) fprintf(stderr, "  largest difference %.2f / 255\n", worst * 255);
+  free(a);
+  free(b);
+}
+
 /* I = 1 - s/S: 1 on the uncovered top face, and on the lower face far from
 ** the upper one; below 1 near the upper face's edge, as the disk count. */
 TEST(pseudo_shading) {
@@ -699,6 +749,7 @@ int main(void) {
   RUN(three_face_cycle);
   RUN(shuffle_order_independent);
   RUN(illustration_corner_brightness);
+  RUN(illustration_independent_of_first_corner);
   RUN(pseudo_shading);
   RUN(line_mode_marks_face_changes);
   RUN(flat_crease_is_no_fold);
