@@ -36,7 +36,7 @@ typedef struct Options {
   const char *command;
   const char *input;
   const char *output;
-  int ast, scene, compare, stats, quiet;
+  int ast, scene, compare, stats, quiet, loop;
   int width, height, threads;
   const char *frames, *aov;
   const char **defines; int ndefines;
@@ -78,6 +78,7 @@ static void usage(FILE *out) {
     "  -I DIR               add an include folder\n"
     "  --frames A:B         render frames A..B; clock runs 0..1 over them, frame is the\n"
     "                       number; OUT's #### (or a 4-digit suffix) takes the frame\n"
+    "  --loop               with --frames: a loop, clock in [0, 1) (B is not A again)\n"
     "  --threads N          worker threads (output is identical at any count)\n"
     "  --stats              print per-stage times and peak memory\n"
     "  --aov LIST           also write depth,normal,object,face passes\n"
@@ -130,6 +131,7 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "--compare")) o->compare = 1;
     else if (!strcmp(a, "--stats")) o->stats = 1;
     else if (!strcmp(a, "--quiet")) o->quiet = 1;
+    else if (!strcmp(a, "--loop")) o->loop = 1;
     else if (!strcmp(a, "-o")) { NEED_VALUE(); o->output = v; }
     else if (!strcmp(a, "-W")) { NEED_VALUE(); o->width = parse_int_arg(a, v, 1, 32768); }
     else if (!strcmp(a, "-H")) { NEED_VALUE(); o->height = parse_int_arg(a, v, 1, 32768); }
@@ -160,6 +162,7 @@ static void parse_options(int argc, char **argv, Options *o) {
 #undef NEED_VALUE
   }
   if (!o->command) { usage(stderr); exit(2); }
+  if (o->loop && !o->frames) bad_usage("--loop makes a loop of --frames A:B: give the frames too");
   o->diag_format = fmt;
   diag_init(fmt);
 }
@@ -520,7 +523,7 @@ static int cmd_render(const Options *o) {
   for (int fr = first; fr <= last; fr++) {
     char path[4096];
     frame_path(path, sizeof path, o->output, fr);
-    double clock = last > first ? (double)(fr - first) / (last - first) : 0;
+    double clock = scene_frame_clock(first, last, fr, o->loop);
     if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
     int status = render_frame_to(o, clock, fr, path);
     if (status) return status;

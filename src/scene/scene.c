@@ -19,6 +19,11 @@ void scene_init(Scene *s) {
   s->camera.loc = src_none();
 }
 
+double scene_frame_clock(int first, int last, int frame, int loop) {
+  int steps = last - first + (loop ? 1 : 0);   /* clock 1 is one step past the last when looping */
+  return steps > 0 ? (double)(frame - first) / steps : 0;
+}
+
 void scene_free(Scene *s) {
   arena_free(&s->arena);
   memset(s, 0, sizeof *s);

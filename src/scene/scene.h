@@ -411,6 +411,12 @@ typedef struct Scene {
 
 void scene_init(Scene *s);
 void scene_free(Scene *s);
+/* The clock of frame `frame` of an animation of frames first..last: 0 at
+** the first and 1 at the last; with loop, 0 at the first and
+** (n - 1) / n at the last of n, so that the frame after the last would be
+** the first again (a loop of n frames repeats with period 1). 0 for a
+** single frame. */
+double scene_frame_clock(int first, int last, int frame, int loop);
 /* The style every object without one gets. */
 SceneStyle scene_default_style(void);
 /* shade ink's defaults (Yeh ch. 5.2) and the sheet's (ch. 6), as the
