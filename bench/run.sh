@@ -173,4 +173,6 @@ echo
 sh bench/clahe.sh "$(dirname "$SUMI")"
 echo
 sh bench/brush.sh "$SUMI"
+echo
+sh bench/ink.sh "$SUMI"
 exit 0

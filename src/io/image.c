@@ -184,6 +184,12 @@ Image *image_create(int w, int h, int channels) {
   return img;
 }
 
+Image *image_create_unset(int w, int h, int channels) {
+  Image *img = image_shell(w, h, channels, IMAGE_MAX_CHANNELS, "image_create_unset");
+  img->data = xmalloc_huge((size_t)w * (size_t)h * (size_t)channels * sizeof(float));
+  return img;
+}
+
 Image *image_create8(int w, int h, int channels) {
   Image *img = image_shell(w, h, channels, 4, "image_create8");
   img->data8 = xcalloc((size_t)w * (size_t)h * (size_t)channels, 1);

@@ -49,6 +49,8 @@ typedef struct Image {
 ** are checked by the caller against its limits first; bad sizes or running
 ** out of memory end the program with a message. Free with image_destroy. */
 Image *image_create(int w, int h, int channels);
+/* The same with its values unset, for a caller that writes every one. */
+Image *image_create_unset(int w, int h, int channels);
 void image_destroy(Image *img);                /* NULL is fine */
 /* A w x h 8-bit image (channels 1..4), every code 0. */
 Image *image_create8(int w, int h, int channels);

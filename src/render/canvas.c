@@ -2,7 +2,11 @@
 ** The canvas (canvas.h): paper, ink, and the tile pass's image over them.
 **
 ** Bottom-up: the frame's ink styles, the ink of each pixel from the
-** G-buffer, the stages (diffusion, box filter), and the composite.
+** G-buffer, the stages (diffusion, box filter), and the composite. The
+** work is kept to where it matters: the diffusion starts from the ink's
+** bounding box, the box filter runs over that box grown by the ink's reach,
+** and the composite reads the tile pass's image only when something other
+** than ink was drawn in it.
 */
 #include "canvas.h"
 
@@ -22,32 +26,38 @@
 typedef struct InkSet {
   int n;
   InkStyle *styles;      /* copies of the RenderStyles' ink */
-  int *of_style;         /* per RenderStyle: its index here, or -1 */
+  int *of_object;        /* per object: its style's index here, or -1 (not ink) */
   int uniform;           /* every ink style has the same colour */
   int box;               /* the frame's box side: the largest a filtered style asks for */
+  int reach;             /* the most pixels ink can run: the largest bound on passes */
 } InkSet;
 
 static void ink_set(const RenderFrame *f, InkSet *set) {
   memset(set, 0, sizeof *set);
   set->styles = xcalloc((size_t)f->nstyles + 1, sizeof *set->styles);
-  set->of_style = xmalloc(((size_t)f->nstyles + 1) * sizeof *set->of_style);
+  int *of_style = xmalloc(((size_t)f->nstyles + 1) * sizeof *of_style);
   set->uniform = 1;
   set->box = 1;
   for (int i = 0; i < f->nstyles; i++) {
-    set->of_style[i] = -1;
+    of_style[i] = -1;
     const InkStyle *k = f->styles[i].ink;
     if (!k || set->n >= INK_NO_STYLE) continue;
-    set->of_style[i] = set->n;
+    of_style[i] = set->n;
     set->styles[set->n] = *k;
     if (set->n > 0 && memcmp(k->color, set->styles[0].color, sizeof k->color) != 0) set->uniform = 0;
     if (k->stage == INK_STAGE_FILTERED && k->box > set->box) set->box = k->box;
+    if (k->stage >= INK_STAGE_DIFFUSED && k->passes > set->reach) set->reach = k->passes;
     set->n++;
   }
+  set->of_object = xmalloc(((size_t)f->nobjects + 1) * sizeof *set->of_object);
+  for (int i = 0; i < f->nobjects; i++)
+    set->of_object[i] = f->objects[i].vink ? of_style[f->objects[i].style - f->styles] : -1;
+  free(of_style);
 }
 
 static void ink_set_free(InkSet *set) {
   free(set->styles);
-  free(set->of_style);
+  free(set->of_object);
 }
 
 int canvas_wanted(const Scene *s, const RenderFrame *f) {
@@ -70,36 +80,108 @@ static float sample_grey(const RenderObject *o, int face, const float b[2]) {
   return b0 * o->vink[t[0]] + b1 * o->vink[t[1]] + b2 * o->vink[t[2]];
 }
 
-/* Pixel p (x, y) of the canvas from its N x N samples: ink when ink
-** objects show at least as many samples as other objects and as the
-** background, its grey the mean of theirs; off the canvas when other
-** objects show more than the background; else bare paper. */
-static void ink_pixel(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g, int x,
-                      int y) {
-  int N = f->samples, n_ink = 0, n_other = 0, n_bare = 0, style = -1;
+/* Where the canvas holds ink, and whether other objects cover some of it. */
+typedef struct InkArea {
+  int x0, y0, x1, y1;    /* the ink's bounding box (empty: x0 >= x1) */
+  int any_off;           /* some pixel is off the canvas */
+} InkArea;
+
+/* Pixel p of style index si takes grey's ink (its quantised tone's, or at
+** the Gouraud stage the grey's own), its level, and its wash's water. */
+static void put_ink(InkCanvas *c, const InkSet *set, size_t p, int si, float grey, InkArea *a, int x,
+                    int y) {
+  const InkStyle *k = &set->styles[si];
+  int label = ink_label(k, grey);
+  c->level[p] = (uint8_t)label;
+  c->style[p] = (uint16_t)si;
+  c->ink[p] = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
+  c->water[p] = label > 0 ? k->water : 0;   /* the washes are wet, the paper level dry */
+  if (x < a->x0) a->x0 = x;
+  if (x >= a->x1) a->x1 = x + 1;
+  if (y < a->y0) a->y0 = y;
+  if (y >= a->y1) a->y1 = y + 1;
+}
+
+/* Bare paper at pixel p: no level, ink, water or style. */
+static void put_paper(InkCanvas *c, size_t p) {
+  c->level[p] = 0;
+  c->style[p] = INK_NO_STYLE;
+  c->ink[p] = c->water[p] = 0;
+}
+
+/* Pixel p off the canvas (another object shows there). */
+static void put_off(InkCanvas *c, size_t p, InkArea *a) {
+  put_paper(c, p);
+  c->level[p] = INK_OFF;
+  a->any_off = 1;
+}
+
+/* Row y of bare paper, pixels x0..x1-1. */
+static void paper_run(InkCanvas *c, int y, int x0, int x1) {
+  size_t p = (size_t)y * c->width + x0, n = (size_t)(x1 - x0);
+  memset(c->level + p, 0, n);
+  memset(c->style + p, 0xff, n * sizeof *c->style);   /* INK_NO_STYLE */
+  memset(c->ink + p, 0, n * sizeof *c->ink);           /* 0.0f */
+  memset(c->water + p, 0, n * sizeof *c->water);
+}
+
+/* One sample a pixel: the sample is the pixel. Every pixel is written:
+** rows of paper at once, then the pixels objects show in. */
+static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
+                         InkArea *a) {
+  for (int y = 0; y < c->height; y++) {
+    const int32_t *obj = g->object + (size_t)y * g->width;
+    paper_run(c, y, 0, c->width);
+    int first = -1, last = -1;   /* the row's ink pixels */
+    for (int x = 0; x < c->width; x++) {
+      if (obj[x] < 0) continue;
+      size_t p = (size_t)y * c->width + x;
+      int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
+      if (si < 0) { put_off(c, p, a); continue; }
+      const InkStyle *k = &set->styles[si];
+      float grey = sample_grey(&f->objects[obj[x]], g->face[p], g->bary[p]);
+      int label = ink_label(k, grey);
+      c->level[p] = (uint8_t)label;
+      c->style[p] = (uint16_t)si;
+      c->ink[p] = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
+      c->water[p] = label > 0 ? k->water : 0;
+      if (first < 0) first = x;
+      last = x;
+    }
+    if (first < 0) continue;
+    if (first < a->x0) a->x0 = first;
+    if (last >= a->x1) a->x1 = last + 1;
+    if (y < a->y0) a->y0 = y;
+    a->y1 = y + 1;
+  }
+}
+
+/* N x N samples a pixel: ink when ink objects show at least as many
+** samples as other objects and as the background, its grey the mean of
+** theirs; off the canvas when other objects show more than the
+** background; else bare paper. */
+static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g, int x,
+                        int y, InkArea *a) {
+  int N = f->samples, n_ink = 0, n_other = 0, n_bare = 0, si = -1;
   float grey = 0;
   for (int sy = 0; sy < N; sy++)
     for (int sx = 0; sx < N; sx++) {
       size_t i = (size_t)(y * N + sy) * g->width + (size_t)(x * N + sx);
       int obj = g->object[i];
       if (obj < 0) { n_bare++; continue; }
-      const RenderObject *o = obj < f->nobjects ? &f->objects[obj] : NULL;   /* else an origami sheet */
-      if (!o || !o->vink) { n_other++; continue; }
+      int s = obj < f->nobjects ? set->of_object[obj] : -1;
+      if (s < 0) { n_other++; continue; }
       n_ink++;
-      grey += sample_grey(o, g->face[i], g->bary[i]);
-      if (style < 0) style = set->of_style[o->style - f->styles];
+      grey += sample_grey(&f->objects[obj], g->face[i], g->bary[i]);
+      if (si < 0) si = s;
     }
   size_t p = (size_t)y * c->width + x;
   if (n_ink == 0 || n_ink < n_other || n_ink < n_bare) {
-    if (n_other > n_bare) c->level[p] = INK_OFF;
-    return;   /* else bare paper, as initialised */
+    if (n_other > n_bare) put_off(c, p, a);
+    else put_paper(c, p);
+    return;
   }
-  const InkStyle *k = &set->styles[style];
-  grey /= (float)n_ink;
-  int label = ink_label(k, grey);
-  c->level[p] = (uint8_t)label;
-  c->style[p] = (uint16_t)style;
-  c->ink[p] = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
+  put_ink(c, set, p, si, grey / (float)n_ink, a, x, y);
 }
 
 /* Does any ink style run the stage st? */
@@ -125,101 +207,237 @@ static void colour_planes(const InkCanvas *c, const InkSet *set, InkColour *col)
 
 /* The box filter over the ink of filtered styles' pixels (the others keep
 ** theirs), averaged over the canvas (pixels other objects cover are off
-** it). */
-static void box_stage(InkCanvas *c, const InkSet *set, InkColour *col) {
+** it), within rectangle a (the ink's box grown by its reach and the box). */
+static void box_stage(InkCanvas *c, const InkSet *set, InkColour *col, const InkArea *a, int any_off) {
   size_t n = (size_t)c->width * c->height;
-  float *planes[4] = {xmalloc(n * sizeof(float) + 1), NULL, NULL, NULL};
-  uint8_t *on = xmalloc(n + 1);
-  int np = set->uniform ? 1 : 4;
-  for (int ch = 0; ch < 3 && np == 4; ch++) planes[1 + ch] = xmalloc(n * sizeof(float) + 1);
-  for (size_t p = 0; p < n; p++) {
-    int filtered = c->style[p] == INK_NO_STYLE || set->styles[c->style[p]].stage == INK_STAGE_FILTERED;
-    on[p] = c->level[p] != INK_OFF;
-    planes[0][p] = filtered ? c->ink[p] : 0;
-    if (filtered) c->ink[p] = 0;
-    for (int ch = 0; ch < 3 && np == 4; ch++) {
-      planes[1 + ch][p] = filtered ? col->k[ch][p] : 0;
-      if (filtered) col->k[ch][p] = 0;
+  int np = set->uniform ? 1 : 4, all_filtered = !any_stage(set, INK_STAGE_FILTERED + 1);
+  for (int i = 0; i < set->n && all_filtered; i++) all_filtered = set->styles[i].stage == INK_STAGE_FILTERED;
+  float *planes[4] = {all_filtered ? c->ink : xmalloc(n * sizeof(float) + 1), NULL, NULL, NULL};
+  for (int ch = 0; ch < 3 && np == 4; ch++) planes[1 + ch] = all_filtered ? col->k[ch] : xmalloc(n * sizeof(float) + 1);
+  if (!all_filtered)   /* the filtered styles' ink apart; the rest keep theirs */
+    for (size_t p = 0; p < n; p++) {
+      int filtered = c->style[p] == INK_NO_STYLE || set->styles[c->style[p]].stage == INK_STAGE_FILTERED;
+      planes[0][p] = filtered ? c->ink[p] : 0;
+      if (filtered) c->ink[p] = 0;
+      for (int ch = 0; ch < 3 && np == 4; ch++) {
+        planes[1 + ch][p] = filtered ? col->k[ch][p] : 0;
+        if (filtered) col->k[ch][p] = 0;
+      }
     }
+  uint8_t *on = NULL;   /* pixels on the canvas, when some are off it */
+  if (any_off) {
+    on = xmalloc(n + 1);
+    for (size_t p = 0; p < n; p++) on[p] = c->level[p] != INK_OFF;
   }
-  ink_box_filter(planes, np, on, c->width, c->height, set->box);
+  ink_box_filter_rect(planes, np, on, c->width, c->height, set->box, a->x0, a->y0, a->x1, a->y1);
+  free(on);
+  if (all_filtered) return;
   for (size_t p = 0; p < n; p++) {
     c->ink[p] += planes[0][p];
     for (int ch = 0; ch < 3 && np == 4; ch++) col->k[ch][p] += planes[1 + ch][p];
   }
   for (int k = 0; k < np; k++) free(planes[k]);
-  free(on);
 }
 
 /* ---- the composite ------------------------------------------------------------------ */
 
-/* One pixel: ink of density d (times the absorbency) and colour ink_col on
-** the paper texel t, in display values, then the layer pixel lay (linear,
-** unassociated alpha; NULL: nothing) over it, into out (nc channels). */
-static void composite_pixel(const Paper *pp, size_t t, float ink, const float ink_col[3], const float *lay,
-                            float *out, int nc) {
+/* What the composite reads. */
+typedef struct Paint {
+  const Paper *pp;
+  const InkCanvas *c;          /* NULL: no ink */
+  const InkArea *area;         /* with c */
+  const InkColour *col;
+  float ink_color[3];          /* the one colour, when uniform */
+  const Image *layer;          /* the tile pass's image */
+  int read_layer;              /* 0: it is transparent everywhere (only ink was drawn) */
+  uint8_t *mix[3];             /* one ink colour: per channel, paper code p and density d
+                                  (1/256ths) mix to mix[p * 257 + d]; else NULL */
+} Paint;
+
+/* The mixing tables of one ink colour k (display values): paper code p
+** under ink of density d / 256 shows p + (k - p) d / 256, rounded. */
+static void mix_tables(Paint *pt, const float k[3]) {
+  for (int ch = 0; ch < 3; ch++) {
+    int K = (int)(k[ch] * 255 + 0.5f);
+    uint8_t *t = pt->mix[ch] = xmalloc(256 * 257);
+    for (int p = 0; p < 256; p++)
+      for (int d = 0; d <= 256; d++) t[p * 257 + d] = (uint8_t)(p + (((K - p) * d + 128) >> 8));
+  }
+}
+
+/* The ink's colour at pixel p (display values). */
+static void ink_colour(const Paint *pt, size_t p, float ink, float kc[3]) {
+  for (int ch = 0; ch < 3; ch++)
+    kc[ch] = pt->col->k[0] && ink > 0 ? pt->col->k[ch][p] / ink : pt->ink_color[ch];
+}
+
+/* One pixel, in general: ink of density d (times the absorbency) on the
+** paper texel t, in display values, then the layer pixel lay (linear,
+** unassociated alpha) over it, into out (nc linear channels). */
+static void composite_pixel(const Paint *pt, size_t p, size_t t, const float *lay, float *out, int nc) {
+  const Paper *pp = pt->pp;
+  float ink = pt->c ? pt->c->ink[p] : 0, kc[3];
+  ink_colour(pt, p, ink, kc);
   float d = ink * (1.0f / 255) * (pp->absorb ? pp->absorb[t] : 1);
   d = d < 1 ? (d > 0 ? d : 0) : 1;
   float pa = pp->alpha, a = d + pa * (1 - d);   /* ink over the paper's alpha */
   float base[3];
-  for (int ch = 0; ch < 3; ch++) {
-    if (d == 0) { base[ch] = pp->linear[3 * t + ch]; continue; }
-    float disp = (ink_col[ch] * d + pp->display[3 * t + ch] * pa * (1 - d)) / a;
-    base[ch] = display_to_linear(disp);
-  }
-  float la = lay ? lay[3] : 0, oa = la + a * (1 - la);
   for (int ch = 0; ch < 3; ch++)
-    out[ch] = oa > 0 ? ((lay ? lay[ch] * la : 0) + base[ch] * a * (1 - la)) / oa : 0;
+    base[ch] = d == 0 ? pp->linear[3 * t + ch]
+                      : display_to_linear((kc[ch] * d + pp->display[3 * t + ch] * pa * (1 - d)) / a);
+  float la = lay[3], oa = la + a * (1 - la);
+  for (int ch = 0; ch < 3; ch++) out[ch] = oa > 0 ? (lay[ch] * la + base[ch] * a * (1 - la)) / oa : 0;
   if (nc == 4) out[3] = oa;
 }
 
-/* The painted image: the layer over the inked paper. */
-static Image *composite(const Paper *pp, const InkCanvas *c, const InkSet *set, const InkColour *col,
-                        const Image *layer) {
-  int w = layer->width, h = layer->height;
-  int nc = pp->alpha >= 1 ? 3 : 4;
+/* Pixel p of the layer (linear, unassociated alpha) into lay; 0 where it
+** is transparent. */
+static int layer_pixel(const Image *L, size_t p, float lay[4]) {
+  if (L->data8) {   /* an 8-bit layer: its codes */
+    if (L->data8[4 * p + 3] == 0) return 0;
+    image_decode8(L->data8 + 4 * p, lay, 1, 4);
+    return 1;
+  }
+  memcpy(lay, L->data + 4 * p, 4 * sizeof *lay);
+  return lay[3] > 0;
+}
+
+/* Ink of quantity ink on paper of absorbency a: its density in 1/256ths
+** of full ink, 0..256. */
+static inline int density(float ink, float a) {
+  float v = ink * (256.0f / 255) * a + 0.5f;
+  return v < 256 ? (v > 0 ? (int)v : 0) : 256;
+}
+
+/* n pixels of one ink (quantities I) on paper codes P (absorbency A, or
+** NULL for 1) into codes o, through the mixing tables m0, m1, m2. */
+static void mix_run(const uint8_t *restrict m0, const uint8_t *restrict m1, const uint8_t *restrict m2,
+                    const float *restrict I, const float *restrict A, const uint8_t *restrict P,
+                    uint8_t *restrict o, int n) {
+  for (int i = 0; i < n; i++, o += 3, P += 3) {
+    int d = density(I[i], A ? A[i] : 1);
+    o[0] = m0[P[0] * 257 + d];
+    o[1] = m1[P[1] * 257 + d];
+    o[2] = m2[P[2] * 257 + d];
+  }
+}
+
+/* The same on paper of one colour (its tables' rows t0, t1, t2). */
+static void mix_flat(const uint8_t *restrict t0, const uint8_t *restrict t1, const uint8_t *restrict t2,
+                     const float *restrict I, uint8_t *restrict o, int n) {
+  for (int i = 0; i < n; i++, o += 3) {
+    int d = density(I[i], 1);
+    o[0] = t0[d];
+    o[1] = t1[d];
+    o[2] = t2[d];
+  }
+}
+
+/* Row y into an 8-bit image. Where only ink and paper show, the display
+** mix goes straight to its codes, a run of texels at a time; where the
+** layer shows, the general pixel, encoded. */
+static void composite_row8(const Paint *pt, int y, uint8_t *out) {
+  const Paper *pp = pt->pp;
+  int w = pt->layer->width, tw = pp->width;
+  size_t row = (size_t)y * w, row_t = paper_texel(pp, 0, y);
+  const float *ink = pt->c ? pt->c->ink + row : NULL;
+  for (int x0 = 0, tx = 0; x0 < w; x0 += tw - tx, tx = 0) {   /* runs of the tile's row */
+    int n = w - x0 < tw - tx ? w - x0 : tw - tx;
+    const uint8_t *P = pp->code + 3 * (row_t + (size_t)tx);
+    const float *A = pp->absorb ? pp->absorb + row_t + tx : NULL;
+    uint8_t *o = out + 3 * (size_t)x0;
+    if (!ink) { memcpy(o, P, 3 * (size_t)n); continue; }
+    const float *I = ink + x0;
+    if (pt->mix[0] && !A && pp->height == 1) {   /* one ink on one colour: a table each channel */
+      mix_flat(pt->mix[0] + P[0] * 257, pt->mix[1] + P[1] * 257, pt->mix[2] + P[2] * 257, I, o, n);
+      continue;
+    }
+    if (pt->mix[0]) {   /* one ink: its mixes with every paper code, from the tables */
+      mix_run(pt->mix[0], pt->mix[1], pt->mix[2], I, A, P, o, n);
+      continue;
+    }
+    for (int i = 0; i < n; i++, o += 3, P += 3) {   /* inks of several colours */
+      int d = density(I[i], A ? A[i] : 1);
+      float kc[3];
+      ink_colour(pt, row + (size_t)(x0 + i), I[i], kc);
+      for (int ch = 0; ch < 3; ch++) {
+        int K = (int)(kc[ch] * 255 + 0.5f);
+        o[ch] = (uint8_t)(P[ch] + (((K - P[ch]) * d + 128) >> 8));
+      }
+    }
+  }
+  if (!pt->read_layer) return;
+  for (int x = 0; x < w; x++) {
+    size_t p = row + (size_t)x;
+    float lay[4], lin[3];
+    if (!layer_pixel(pt->layer, p, lay)) continue;
+    composite_pixel(pt, p, paper_texel(pp, x, y), lay, lin, 3);   /* another object shows here */
+    image_encode8(lin, out + 3 * x, 1, 3);
+  }
+}
+
+/* The painted image: the layer over the inked paper; 8-bit codes when
+** out8 asks and the paper is opaque, else float. */
+static Image *composite(const Paint *pt, int out8) {
+  const Image *layer = pt->layer;
+  int w = layer->width, h = layer->height, nc = pt->pp->alpha >= 1 ? 3 : 4;
+  if (out8 && nc == 3) {
+    Image *out = image_create8_unset(w, h, 3);
+    for (int y = 0; y < h; y++) composite_row8(pt, y, out->data8 + (size_t)y * w * 3);
+    return out;
+  }
   Image *out = image_create(w, h, nc);
   mem_advise_huge(out->data, (size_t)w * h * nc * sizeof(float));
-  const float *uni = set->n ? set->styles[0].color : (const float[3]){0, 0, 0};
   for (int y = 0; y < h; y++)
     for (int x = 0; x < w; x++) {
       size_t p = (size_t)y * w + x;
-      float ink = c ? c->ink[p] : 0, kc[3] = {uni[0], uni[1], uni[2]};
-      if (col && col->k[0] && ink > 0)
-        for (int ch = 0; ch < 3; ch++) kc[ch] = col->k[ch][p] / ink;
-      const float *lay = layer->data + p * layer->channels;
-      composite_pixel(pp, paper_texel(pp, x, y), ink, kc, lay[3] > 0 ? lay : NULL, out->data + p * nc, nc);
+      float lay[4] = {0, 0, 0, 0};
+      if (pt->read_layer) layer_pixel(layer, p, lay);
+      composite_pixel(pt, p, paper_texel(pt->pp, x, y), lay, out->data + p * nc, nc);
     }
   return out;
 }
 
 /* ---- the whole step ------------------------------------------------------------------- */
 
+/* Grow a's box by m pixels within w x h. */
+static void grow_area(InkArea *a, int m, int w, int h) {
+  a->x0 = a->x0 - m > 0 ? a->x0 - m : 0;
+  a->y0 = a->y0 - m > 0 ? a->y0 - m : 0;
+  a->x1 = a->x1 + m < w ? a->x1 + m : w;
+  a->y1 = a->y1 + m < h ? a->y1 + m : h;
+}
+
 /* The ink of the frame on c, through every stage its styles ask for. */
 static void paint_ink(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
-                      InkColour *col) {
+                      InkArea *a, InkColour *col) {
   double t0 = stats_now();
-  for (int y = 0; y < c->height; y++)
-    for (int x = 0; x < c->width; x++) ink_pixel(c, set, f, g, x, y);
+  a->x0 = c->width; a->y0 = c->height; a->x1 = a->y1 = 0;
+  a->any_off = 0;
+  if (f->samples == 1) ink_pixels_1(c, set, f, g, a);
+  else
+    for (int y = 0; y < c->height; y++)
+      for (int x = 0; x < c->width; x++) ink_pixel_n(c, set, f, g, x, y, a);
   double t1 = stats_now();
   stats_record("ink quantise", t1 - t0);
+  if (a->x0 >= a->x1) return;   /* no ink pixel in view */
   if (any_stage(set, INK_STAGE_DIFFUSED)) {
     InkDiffuseStats ds;
-    ink_canvas_wet(c);
     ink_diffuse(c, -1, &ds);
     double t2 = stats_now();
     stats_record("ink diffuse", t2 - t1);
     stats_record_count("ink diffuse", "transfers", ds.transfers);
     t1 = t2;
   }
+  grow_area(a, set->reach + set->box / 2, c->width, c->height);   /* where ink can be, and its boxes */
   colour_planes(c, set, col);
   if (set->box > 1) {
-    box_stage(c, set, col);
+    box_stage(c, set, col, a, a->any_off);
     stats_record("ink box", stats_now() - t1);
   }
 }
 
-int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img) {
+int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img, int out8) {
   double t0 = stats_now();
   Paper pp;
   char err[1400];
@@ -231,24 +449,29 @@ int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image *
   stats_record("paper", stats_now() - t0);
   InkSet set;
   ink_set(f, &set);
-  InkCanvas c, *cp = NULL;
+  InkCanvas c;
+  InkArea area = {0, 0, 0, 0, 0};
   InkColour col = {{NULL, NULL, NULL}};
+  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, s->norigami > 0, {NULL, NULL, NULL}};
+  for (int i = 0; i < f->nobjects; i++) pt.read_layer |= !f->objects[i].style->ink;   /* others drew */
   if (set.n > 0) {
-    ink_canvas_init(&c, f->width, f->height, set.styles, set.n);
+    memcpy(pt.ink_color, set.styles[0].color, sizeof pt.ink_color);
+    ink_canvas_alloc(&c, f->width, f->height, set.styles, set.n);   /* the build writes every pixel */
     c.absorb = pp.absorb;
     c.absorb_w = pp.width;
     c.absorb_h = pp.height;
     c.seed = (uint32_t)sh->seed;
-    paint_ink(&c, &set, f, g, &col);
-    cp = &c;
+    paint_ink(&c, &set, f, g, &area, &col);
+    pt.c = &c;
+    if (out8 && set.uniform) mix_tables(&pt, pt.ink_color);
   }
   double t1 = stats_now();
-  Image *out = composite(&pp, cp, &set, &col, *img);
+  Image *out = composite(&pt, out8);
   stats_record("canvas", stats_now() - t1);
   image_destroy(*img);
   *img = out;
-  for (int ch = 0; ch < 3; ch++) free(col.k[ch]);
-  if (cp) ink_canvas_free(cp);
+  for (int ch = 0; ch < 3; ch++) free(col.k[ch]), free(pt.mix[ch]);
+  if (pt.c) ink_canvas_free(&c);
   ink_set_free(&set);
   paper_free(&pp);
   return 1;

@@ -23,9 +23,10 @@
 int canvas_wanted(const Scene *s, const RenderFrame *f);
 
 /* Paint the frame: *img is the tile pass's image (RGBA, background
-** transparent) with its G-buffer g; it is replaced by the painted image
-** (RGB when the paper is opaque, else RGBA). Returns 1, or 0 after a
-** diagnostic (a sheet image that cannot be read); *img is kept then. */
-int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img);
+** transparent; float, or 8-bit codes when out8) with its G-buffer g; it is
+** replaced by the painted image (RGB when the paper is opaque, else RGBA;
+** 8-bit codes when out8 and opaque, else float). Returns 1, or 0 after a diagnostic (a sheet image
+** that cannot be read); *img is kept then. */
+int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img, int out8);
 
 #endif

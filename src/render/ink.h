@@ -70,10 +70,11 @@ void ink_style_init(InkStyle *k, const SceneShade *sh);
 ** viewer; read as a display grey, as the thesis's frame buffer was. */
 void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o);
 
-/* The range (0 darkest .. ntones - 1) grey value v falls in. */
+/* The range (0 darkest .. ntones - 1) grey value v falls in: how many
+** thresholds it reaches (a NaN reaches all: the lightest, no ink). */
 static inline int ink_range(const InkStyle *k, float v) {
   int i = 0;
-  while (i < k->ntones - 1 && !(v < k->levels[i])) i++;   /* NaN falls to the lightest */
+  for (int t = 0; t < k->ntones - 1; t++) i += !(v < k->levels[t]);
   return i;
 }
 
@@ -100,7 +101,7 @@ typedef struct InkCanvas {
   const float *absorb;
   int absorb_w, absorb_h;
   uint32_t seed;
-  float *noise;             /* the resistance noise where computed (-1: not yet); ink_diffuse's */
+  uint8_t *noise;           /* the resistance noise where computed, 1..255 (0: not yet); ink_diffuse's */
   const struct NoiseFbm *fbm;   /* during ink_diffuse: that noise's lattice */
   uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
 } InkCanvas;
@@ -113,6 +114,8 @@ typedef struct InkCanvas {
 
 /* Allocate w x h planes: every pixel bare paper (level 0, no ink, no water). */
 void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
+/* The same, the planes left unset: for a caller that writes every pixel. */
+void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
 void ink_canvas_free(InkCanvas *c);
 
 /* Give every ink pixel (a style) its style's water, bare paper none. */
@@ -125,11 +128,12 @@ typedef struct InkDiffuseStats { int passes; long long transfers; } InkDiffuseSt
 ** bound; never more than INK_MAX_PASSES). In a pass ink moves at most one
 ** pixel: every pixel takes the best offer of its four neighbours, all from
 ** the state before the pass (so the result does not depend on the order
-** pixels are visited). Neighbour q offers to p when q's water exceeds its
-** style's water threshold (rule 1), q's level is darker than p's (rule 2;
-** onto the paper level only from the light level), q's ink exceeds p's by
-** more than the ink threshold (rule 3), and q's water has soaked through
-** (INK_DELAY). p then takes q's level and style, and ink a little less than
+** pixels are visited). Neighbour q may give to p when q's water exceeds
+** its style's water threshold (rule 1), q's level is darker than p's
+** (rule 2; onto the paper level only from the light level), q's ink
+** exceeds p's by more than the ink threshold (rule 3), and q's water has
+** soaked through (INK_DELAY). p takes from the darkest of those (level,
+** then ink, then water): q's level and style, and ink a little less than
 ** q's: its own plus (1 - loss) of the difference; its water becomes the
 ** greater of its own and q's less a hop's cost. A pixel never loses ink or
 ** water; the giver keeps all of its. Loss, cost and delay scale with the
@@ -137,10 +141,20 @@ typedef struct InkDiffuseStats { int passes; long long transfers; } InkDiffuseSt
 ** loss and the cost are INK_PAPER_COST of that. */
 void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st);
 
+/* The same by its definition: every pixel looks at its neighbours in
+** every pass (slow). ink_diffuse looks only where something can change and
+** must give the same; the tests hold it to that. */
+void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st);
+
 /* A side x side box filter (side odd) of nplanes planes of w x h floats,
 ** in place, averaged over the pixels where weight is nonzero (NULL: every
 ** pixel; the image's edges clip the box either way); where no pixel of a
 ** box has weight, the planes become 0. */
 void ink_box_filter(float **planes, int nplanes, const uint8_t *weight, int w, int h, int side);
+/* The same for the pixels of rectangle [x0, x1) x [y0, y1) only (their
+** boxes still read the pixels around it); the others are left as they are.
+** Every pixel whose box holds ink must lie in it. */
+void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int w, int h, int side,
+                         int x0, int y0, int x1, int y1);
 
 #endif

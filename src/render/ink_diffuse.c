@@ -22,18 +22,26 @@
 
 /* ---- the canvas ----------------------------------------------------------- */
 
-void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
   memset(c, 0, sizeof *c);
   size_t n = (size_t)w * h;
   c->width = w;
   c->height = h;
-  c->ink = xcalloc(n + 1, sizeof *c->ink);
-  c->water = xcalloc(n + 1, sizeof *c->water);
-  c->level = xcalloc(n + 1, sizeof *c->level);
-  c->style = xmalloc((n + 1) * sizeof *c->style);
-  memset(c->style, 0xff, (n + 1) * sizeof *c->style);   /* INK_NO_STYLE */
+  c->ink = xmalloc_huge((n + 1) * sizeof *c->ink);   /* big planes: huge pages, few faults */
+  c->water = xmalloc_huge((n + 1) * sizeof *c->water);
+  c->level = xmalloc_huge(n + 1);
+  c->style = xmalloc_huge((n + 1) * sizeof *c->style);
   c->styles = styles;
   c->nstyles = nstyles;
+}
+
+void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+  ink_canvas_alloc(c, w, h, styles, nstyles);
+  size_t n = (size_t)w * h;
+  memset(c->ink, 0, n * sizeof *c->ink);
+  memset(c->water, 0, n * sizeof *c->water);
+  memset(c->level, 0, n);
+  memset(c->style, 0xff, n * sizeof *c->style);   /* INK_NO_STYLE */
 }
 
 void ink_canvas_free(InkCanvas *c) {
@@ -73,11 +81,9 @@ static float resist_noise(const InkCanvas *c, int x, int y) {
 ** a hop's loss and water cost. */
 static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
   size_t p = (size_t)y * c->width + x;
-  float n = c->noise ? c->noise[p] : -1;
-  if (n < 0) {   /* not yet computed: only pixels the diffusion reaches need it */
-    n = resist_noise(c, x, y);
-    if (c->noise) c->noise[p] = n;
-  }
+  if (!c->noise[p])   /* not yet: only pixels the diffusion reaches need it */
+    c->noise[p] = (uint8_t)(1 + resist_noise(c, x, y) * 254 + 0.5f);   /* 1..255: 0 says not yet */
+  float n = (float)(c->noise[p] - 1) * (1.0f / 254);
   float r = 1 + rho * (2 * n - 1);
   if (c->absorb) r /= c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
   return r > 0.1f ? r : 0.1f;
@@ -98,27 +104,19 @@ static int ink_delay(const InkCanvas *c, int x, int y, float rho) {
 /* ---- diffusion ---------------------------------------------------------------- */
 
 typedef struct Offer {
-  uint32_t pixel;
+  uint32_t pixel, from;       /* the receiver and its giver */
   uint16_t style;
   uint8_t level, delay;
   float ink, water;
 } Offer;
-
-/* Is offer a better than b (darker level, then more ink, then more water)? */
-static int better(const Offer *a, const Offer *b) {
-  if (a->level != b->level) return a->level > b->level;
-  if (a->ink != b->ink) return a->ink > b->ink;
-  return a->water > b->water;
-}
 
 /* Does style index s take part in the diffusion? */
 static int diffuses(const InkCanvas *c, int s) {
   return s == INK_NO_STYLE || c->styles[s].stage >= INK_STAGE_DIFFUSED;
 }
 
-/* What giver q offers pixel p (x, y) in pass `pass` under the three rules;
-** 0 if nothing. */
-static int offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, int pass, Offer *o) {
+/* May giver q give to receiver p in pass `pass` under the three rules? */
+static int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
   int lq = c->level[q], lp = c->level[p];
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
@@ -126,52 +124,54 @@ static int offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, int 
   const InkStyle *k = &c->styles[c->style[q]];
   if (k->stage < INK_STAGE_DIFFUSED) return 0;
   if (!(c->water[q] > k->water_threshold)) return 0;         /* rule 1: enough water */
-  float diff = c->ink[q] - c->ink[p];
-  if (!(diff > k->ink_threshold)) return 0;                  /* rule 3: a large enough difference */
+  return c->ink[q] - c->ink[p] > k->ink_threshold;           /* rule 3: a large enough difference */
+}
+
+/* Does giver a come before giver b: darker (level, then ink, then water),
+** and at a tie the one earlier in the image (so the order givers are
+** looked at in does not matter)? */
+static int darker(const InkCanvas *c, size_t a, size_t b) {
+  if (c->level[a] != c->level[b]) return c->level[a] > c->level[b];
+  if (c->ink[a] != c->ink[b]) return c->ink[a] > c->ink[b];
+  if (c->water[a] != c->water[b]) return c->water[a] > c->water[b];
+  return a < b;
+}
+
+/* What giver q gives pixel p (x, y): a little less ink than q has, its
+** water less a step's cost, through the paper's resistance there. */
+static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Offer *o) {
+  int lp = c->level[p];
+  const InkStyle *k = &c->styles[c->style[q]];
   float r = ink_resistance(c, x, y, k->roughness);
   float cost = r * (lp == 0 ? k->paper_cost : 1);
   float loss = k->ink_loss * cost;
   loss = loss < 0.95f ? loss : 0.95f;
   float water = c->water[q] - cost;
   o->pixel = (uint32_t)p;
+  o->from = (uint32_t)q;
   o->style = c->style[q];
-  o->level = (uint8_t)lq;
+  o->level = c->level[q];
   o->delay = (uint8_t)ink_delay(c, x, y, k->roughness);
-  o->ink = c->ink[p] + (1 - loss) * diff;                    /* a little less than the giver has */
-  o->water = water > c->water[p] ? water : c->water[p];      /* nobody loses water */
-  return 1;
+  o->ink = c->ink[p] + (1 - loss) * (c->ink[q] - c->ink[p]);   /* its own plus (1 - loss) of the difference */
+  o->water = water > c->water[p] ? water : c->water[p];         /* nobody loses water */
 }
 
-/* The best offer pixel (x, y)'s four neighbours make it in pass `pass`; 0
-** if none. */
+/* The offer pixel (x, y) takes in pass `pass`: from its darkest neighbour
+** that may give; 0 if none may. */
 static int best_offer(const InkCanvas *c, int x, int y, int pass, Offer *best) {
   int w = c->width;
   size_t p = (size_t)y * w + x;
   if (c->level[p] == INK_OFF || !diffuses(c, c->style[p])) return 0;
-  size_t nb[4];
-  int n = 0;
+  size_t nb[4], giver = 0;
+  int n = 0, found = 0;
   if (x > 0) nb[n++] = p - 1;
   if (x + 1 < w) nb[n++] = p + 1;
   if (y > 0) nb[n++] = p - (size_t)w;
   if (y + 1 < c->height) nb[n++] = p + (size_t)w;
-  int found = 0;
-  for (int i = 0; i < n; i++) {
-    Offer o;
-    if (offer_from(c, nb[i], p, x, y, pass, &o) && (!found || better(&o, best))) { *best = o; found = 1; }
-  }
+  for (int i = 0; i < n; i++)
+    if (may_give(c, nb[i], p, pass) && (!found || darker(c, nb[i], giver))) { giver = nb[i]; found = 1; }
+  if (found) offer_from(c, giver, p, x, y, best);
   return found;
-}
-
-/* Could some neighbour of p be darker (the cheap test before best_offer)? */
-static int darker_beside(const InkCanvas *c, int x, int y) {
-  size_t p = (size_t)y * c->width + x;
-  unsigned lp = c->level[p];
-  const uint8_t *L = c->level;
-  if (lp == INK_OFF) return 0;
-  return (x > 0 && L[p - 1] > lp && L[p - 1] != INK_OFF) ||
-         (x + 1 < c->width && L[p + 1] > lp && L[p + 1] != INK_OFF) ||
-         (y > 0 && L[p - c->width] > lp && L[p - c->width] != INK_OFF) ||
-         (y + 1 < c->height && L[p + c->width] > lp && L[p + c->width] != INK_OFF);
 }
 
 typedef struct Updates { Offer *v; int n, cap; } Updates;
@@ -199,32 +199,129 @@ static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
   }
 }
 
-/* The first pass: every pixel of the canvas. */
-static void first_pass(const InkCanvas *c, Updates *u) {
-  for (int y = 0; y < c->height; y++)
-    for (int x = 0; x < c->width; x++) {
-      Offer o;
-      if (darker_beside(c, x, y) && best_offer(c, x, y, 1, &o)) updates_add(u, &o);
-    }
+/* Row y's pixels that have a darker neighbour (levels; off the canvas
+** counts as nothing), flagged in near (w bytes): the cheap test before
+** best_offer, several pixels at a time. Levels go up by one so that off
+** (255) becomes 0. */
+static void darker_row(const InkCanvas *c, int y, uint8_t *restrict near) {
+  int w = c->width;
+  const uint8_t *row = c->level + (size_t)y * w;
+  const uint8_t *up = y > 0 ? row - w : row, *down = y + 1 < c->height ? row + w : row;   /* itself: not darker */
+  near[0] = near[w - 1] = 1;   /* the ends: best_offer looks */
+  for (int x = 1; x + 1 < w; x++) {
+    uint8_t me = (uint8_t)(row[x] + 1), m = (uint8_t)(row[x - 1] + 1), v;
+    v = (uint8_t)(row[x + 1] + 1); m = v > m ? v : m;
+    v = (uint8_t)(up[x] + 1); m = v > m ? v : m;
+    v = (uint8_t)(down[x] + 1); m = v > m ? v : m;
+    near[x] = (uint8_t)((m > me) & (me != 0));
+  }
 }
 
-/* A later pass: the neighbours of the pixels that can give from this pass
-** on (now), each once (seen holds the pass that looked at a pixel last). */
-static void next_pass(const InkCanvas *c, const Updates *now, uint16_t *seen, int pass, Updates *u) {
+/* The first pass: every pixel of the canvas with a darker neighbour. */
+static void first_pass(const InkCanvas *c, Updates *u) {
+  uint8_t *near = xmalloc((size_t)c->width + 2);
+  for (int y = 0; y < c->height; y++) {
+    darker_row(c, y, near);
+    for (int x = 0; x < c->width; x++) {
+      Offer o;
+      if (near[x] && best_offer(c, x, y, 1, &o)) updates_add(u, &o);
+    }
+  }
+  free(near);
+}
+
+/* Receiver p (x, y) with the offer from giver q: the
+** first offer it gets this pass, or a darker giver's instead of the one it
+** has. The pass's receivers are found by a small hash table from pixel to
+** offer index in u (a pass touches a thin band along the fronts, so no
+** plane the size of the image is needed). */
+typedef struct Receivers {
+  uint32_t *key, *at, mask;
+  uint32_t *used;            /* the slots holding keys, to empty them for the next pass */
+  int nused, capused;
+} Receivers;
+
+#define NO_PIXEL 0xffffffffu
+
+/* The slot of pixel p: its own, or the empty one where it would go. */
+static uint32_t receivers_slot(const Receivers *t, uint32_t p) {
+  uint32_t h = (p * 0x9e3779b1u) & t->mask;
+  while (t->key[h] != NO_PIXEL && t->key[h] != p) h = (h + 1) & t->mask;
+  return h;
+}
+
+/* A table with room for about n receivers: the one there, emptied, or a
+** bigger one. */
+static void receivers_reset(Receivers *t, size_t n) {
+  size_t cap = 64;
+  while (cap < 2 * n + 2) cap *= 2;
+  if (t->key && cap <= (size_t)t->mask + 1) {   /* big enough: empty only the slots in use */
+    for (int i = 0; i < t->nused; i++) t->key[t->used[i]] = NO_PIXEL;
+    t->nused = 0;
+    return;
+  }
+  free(t->key);
+  free(t->at);
+  t->key = xmalloc(cap * sizeof *t->key);
+  t->at = xmalloc(cap * sizeof *t->at);
+  t->mask = (uint32_t)(cap - 1);
+  t->nused = 0;
+  memset(t->key, 0xff, cap * sizeof *t->key);   /* NO_PIXEL */
+}
+
+/* Put pixel p with offer index at into slot h. */
+static void receivers_put(Receivers *t, uint32_t h, uint32_t p, uint32_t at) {
+  t->key[h] = p;
+  t->at[h] = at;
+  t->used = xgrow(t->used, &t->capused, t->nused + 1, sizeof *t->used);
+  t->used[t->nused++] = h;
+}
+
+static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, int x, int y, Updates *u) {
+  uint32_t h = receivers_slot(t, (uint32_t)p);
+  if (t->key[h] == p) {
+    Offer *o = &u->v[t->at[h]];
+    if (darker(c, q, o->from)) offer_from(c, q, p, x, y, o);
+    return;
+  }
+  if ((size_t)u->n * 2 + 2 > (size_t)t->mask) {   /* fuller than half: twice the size, the offers again */
+    free(t->key);
+    t->key = NULL;
+    receivers_reset(t, 2 * (size_t)u->n + 2);
+    for (int i = 0; i < u->n; i++) receivers_put(t, receivers_slot(t, u->v[i].pixel), u->v[i].pixel, (uint32_t)i);
+    h = receivers_slot(t, (uint32_t)p);
+  }
+  receivers_put(t, h, (uint32_t)p, (uint32_t)u->n);
+  Offer o;
+  offer_from(c, q, p, x, y, &o);
+  updates_add(u, &o);
+}
+
+/* A later pass. A pixel's best offer can change only when it or a
+** neighbour changed: so the pixels that took ink in the last pass (last)
+** look at all their neighbours again, and the pixels that can give from
+** this pass on (now) offer to theirs; a neighbour that could give before
+** made its offers then and, the receiver unchanged, a refusal stands. */
+static void next_pass(const InkCanvas *c, const Updates *last, const Updates *now, Receivers *t, int pass,
+                      Updates *u) {
   int w = c->width, h = c->height;
-  static const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+  receivers_reset(t, (size_t)last->n + 2 * (size_t)now->n);
+  for (int i = 0; i < last->n; i++) {
+    uint32_t p = last->v[i].pixel;
+    int x = (int)(p % (uint32_t)w), y = (int)(p / (uint32_t)w);
+    Offer o;
+    if (t->key[receivers_slot(t, p)] != p && best_offer(c, x, y, pass, &o)) take(c, t, o.from, p, x, y, u);
+  }
   for (int i = 0; i < now->n; i++) {
-    uint32_t g = now->v[i].pixel;
-    if (c->ready[g] != pass - 1) continue;   /* it took a darker offer since: listed again */
-    int x0 = (int)(g % (uint32_t)w), y0 = (int)(g / (uint32_t)w);
+    uint32_t q = now->v[i].pixel;
+    if (c->ready[q] != pass - 1) continue;   /* it took a darker offer since: listed again */
+    int x0 = (int)(q % (uint32_t)w), y0 = (int)(q / (uint32_t)w);
     for (int d = 0; d < 4; d++) {
-      int x = x0 + dx[d], y = y0 + dy[d];
+      int x = x0 + (d == 0 ? -1 : d == 1), y = y0 + (d == 2 ? -1 : d == 3);
       if (x < 0 || y < 0 || x >= w || y >= h) continue;
       size_t p = (size_t)y * w + x;
-      if (seen[p] == pass) continue;
-      seen[p] = (uint16_t)pass;
-      Offer o;
-      if (best_offer(c, x, y, pass, &o)) updates_add(u, &o);
+      if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass))
+        take(c, t, q, p, x, y, u);
     }
   }
 }
@@ -243,39 +340,78 @@ static int ring_empty(const Ready *rd) {
   return 1;
 }
 
-void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
+/* The passes to run: the styles' bound, max_passes if it is lower. */
+static int pass_bound(const InkCanvas *c, int max_passes) {
   int passes = style_passes(c);
   if (max_passes >= 0 && max_passes < passes) passes = max_passes;
-  if (passes > INK_MAX_PASSES) passes = INK_MAX_PASSES;
+  return passes > INK_MAX_PASSES ? INK_MAX_PASSES : passes;
+}
+
+void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
+  int passes = pass_bound(c, max_passes);
+  size_t n = (size_t)c->width * c->height;
+  NoiseFbm fbm;
+  noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
+  c->fbm = &fbm;
+  if (!c->noise) c->noise = xcalloc_huge((n + 1) * sizeof *c->noise);
+  c->ready = xcalloc_huge((n + 1) * sizeof *c->ready);
+  Updates u = {0};
+  Ready rd;
+  memset(&rd, 0, sizeof rd);
+  InkDiffuseStats s = {0, 0};
+  for (int pass = 1; pass <= passes; pass++) {
+    u.n = 0;
+    for (int y = 0; y < c->height; y++)
+      for (int x = 0; x < c->width; x++) {
+        Offer o;
+        if (best_offer(c, x, y, pass, &o)) updates_add(&u, &o);
+      }
+    for (int i = 0; i <= INK_MAX_DELAY; i++) rd.at[i].n = 0;   /* no lists needed: every pixel looks */
+    apply(c, &u, pass, &rd);
+    s.transfers += u.n;
+    if (u.n) s.passes = pass;
+  }
+  free(u.v);
+  for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
+  free(c->ready);
+  c->ready = NULL;
+  noise_fbm_free(&fbm);
+  c->fbm = NULL;
+  if (st) *st = s;
+}
+
+void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
+  int passes = pass_bound(c, max_passes);
   InkDiffuseStats s = {0, 0};
   if (passes <= 0) { if (st) *st = s; return; }
   size_t n = (size_t)c->width * c->height;
   NoiseFbm fbm;
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
-  if (!c->noise) {
-    c->noise = xmalloc((n + 1) * sizeof *c->noise);
-    for (size_t i = 0; i < n; i++) c->noise[i] = -1;
-  }
-  c->ready = xcalloc(n + 1, sizeof *c->ready);   /* the first ink can give in pass 1 */
-  uint16_t *seen = xcalloc(n + 1, sizeof *seen);
-  Updates u = {0};
+  if (!c->noise) c->noise = xcalloc_huge((n + 1) * sizeof *c->noise);
+  c->ready = xcalloc_huge((n + 1) * sizeof *c->ready);   /* the first ink can give in pass 1 */
+  Receivers recv = {NULL, NULL, 0, NULL, 0, 0};
+  Updates u = {0}, last = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
   for (int pass = 1; pass <= passes; pass++) {
     u.n = 0;
     Updates *now = &rd.at[(pass - 1) % (INK_MAX_DELAY + 1)];
     if (pass == 1) first_pass(c, &u);
-    else next_pass(c, now, seen, pass, &u);
+    else next_pass(c, &last, now, &recv, pass, &u);
     now->n = 0;
     apply(c, &u, pass, &rd);
     s.transfers += u.n;
     if (u.n) s.passes = pass;
-    if (ring_empty(&rd)) break;   /* settled before the bound */
+    Updates t = last; last = u; u = t;   /* this pass's receivers look again in the next */
+    if (ring_empty(&rd) && last.n == 0) break;   /* settled before the bound */
   }
   free(u.v);
+  free(last.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
-  free(seen);
+  free(recv.key);
+  free(recv.at);
+  free(recv.used);
   free(c->ready);
   c->ready = NULL;
   noise_fbm_free(&fbm);
@@ -285,67 +421,96 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
 
 /* ---- the box filter ---------------------------------------------------------------- */
 
-/* Sums of a side-wide window along one row of n values (src, stride 1),
-** clipped at the ends, into dst; with wt, of src * wt. */
-static void row_sums(const float *src, const uint8_t *wt, int n, int r, float *dst) {
+/* Window sums along row src (w values) for outputs x0..x1-1 into dst:
+** each sums src over [x - r, x + r] clipped to the row, as a running sum;
+** the clipped ends apart, so the middle runs without tests. */
+static void row_sums(const float *src, int w, int x0, int x1, int r, float *restrict dst) {
   double acc = 0;
-  for (int x = 0; x < r && x < n; x++) acc += wt ? (wt[x] ? src[x] : 0) : src[x];
-  for (int x = 0; x < n; x++) {
-    int in = x + r, out = x - r - 1;
-    if (in < n) acc += wt ? (wt[in] ? src[in] : 0) : src[in];
-    if (out >= 0) acc -= wt ? (wt[out] ? src[out] : 0) : src[out];
-    dst[x] = (float)acc;
+  for (int j = x0 - r < 0 ? 0 : x0 - r; j < x0 + r && j < w; j++) acc += src[j];
+  int a = x0 > r + 1 ? x0 : r + 1, b = x1 < w - r ? x1 : w - r;   /* both ends of the window inside */
+  if (a > x1) a = x1;
+  if (b < a) b = a;
+  int x = x0;
+  for (; x < a; x++) {
+    if (x + r < w) acc += src[x + r];
+    if (x - r - 1 >= 0) acc -= src[x - r - 1];
+    dst[x - x0] = (float)acc;
+  }
+  for (; x < b; x++) {
+    acc += (double)src[x + r] - (double)src[x - r - 1];
+    dst[x - x0] = (float)acc;
+  }
+  for (; x < x1; x++) {
+    if (x + r < w) acc += src[x + r];
+    if (x - r - 1 >= 0) acc -= src[x - r - 1];
+    dst[x - x0] = (float)acc;
   }
 }
 
-/* Window counts along one row: weighted pixels, or the clipped width. */
-static void row_counts(const uint8_t *wt, int n, int r, float *dst) {
-  int acc = 0;
-  for (int x = 0; x < r && x < n; x++) acc += wt ? wt[x] != 0 : 1;
-  for (int x = 0; x < n; x++) {
-    int in = x + r, out = x - r - 1;
-    if (in < n) acc += wt ? wt[in] != 0 : 1;
-    if (out >= 0) acc -= wt ? wt[out] != 0 : 1;
-    dst[x] = (float)acc;
-  }
-}
-
-/* The vertical half of the filter: column sums of the row sums rows
-** (h rows of w), side-wide and clipped, divided by the same sums of counts. */
-static void column_pass(float **rows, int nplanes, const float *counts, int w, int h, int r,
-                        float **out) {
-  double *acc = xcalloc((size_t)(nplanes + 1) * w, sizeof *acc);
-  double *cnt = acc + (size_t)nplanes * w;
-  for (int y = -r; y < h; y++) {
-    int in = y + r, gone = y - r - 1;
-    for (int k = 0; k <= nplanes; k++) {
-      const float *src = k < nplanes ? rows[k] : counts;
-      double *a = k < nplanes ? acc + (size_t)k * w : cnt;
-      if (in < h) for (int x = 0; x < w; x++) a[x] += src[(size_t)in * w + x];
-      if (gone >= 0) for (int x = 0; x < w; x++) a[x] -= src[(size_t)gone * w + x];
+/* Horizontal sums of row y of every plane (and of the weights, as the
+** last, when weighted) into dst: nq rows of rw floats. */
+static void hsum_row(float **planes, int nplanes, const uint8_t *weight, int w, int y, int rx0, int rx1, int r,
+                     float *masked, float *dst) {
+  int rw = rx1 - rx0;
+  const uint8_t *wt = weight ? weight + (size_t)y * w : NULL;
+  for (int k = 0; k < nplanes + (weight != NULL); k++) {
+    const float *src = k < nplanes ? planes[k] + (size_t)y * w : NULL;
+    if (wt) {   /* the weighted pixels only; the last plane sums the weights */
+      for (int x = 0; x < w; x++) masked[x] = wt[x] ? (src ? src[x] : 1) : 0;
+      src = masked;
     }
-    if (y < 0) continue;
-    for (int k = 0; k < nplanes; k++)
-      for (int x = 0; x < w; x++)
-        out[k][(size_t)y * w + x] = cnt[x] > 0 ? (float)(acc[(size_t)k * w + x] / cnt[x]) : 0;
+    row_sums(src, w, rx0, rx1, r, dst + (size_t)k * rw);
   }
+}
+
+void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int w, int h, int side,
+                         int rx0, int ry0, int rx1, int ry1) {
+  int r = side / 2;
+  if (r <= 0 || nplanes <= 0 || rx0 >= rx1 || ry0 >= ry1) return;
+  int hy0 = ry0 - r > 0 ? ry0 - r : 0, hy1 = ry1 + r < h ? ry1 + r : h;   /* rows the windows read */
+  int rw = rx1 - rx0, nq = nplanes + (weight != NULL), ring = side + 1;
+  /* the horizontal sums of the last side + 1 rows: a row leaves the column
+  ** sums side rows after it came in, and is overwritten only after that */
+  float *hs = xmalloc((size_t)ring * nq * rw * sizeof *hs + 1);
+  float *masked = xmalloc((size_t)w * sizeof *masked + 1);          /* a row times its weight */
+  double *acc = xcalloc((size_t)nq * rw + 1, sizeof *acc);           /* the column sums */
+  float *cols = xmalloc((size_t)rw * sizeof *cols + 1), *inv = xmalloc((size_t)rw * sizeof *inv + 1);
+  for (int x = 0; x < rw; x++) {   /* a box's columns inside the image */
+    int cx = rx0 + x;
+    cols[x] = (float)((cx + r < w ? cx + r : w - 1) - (cx - r > 0 ? cx - r : 0) + 1);
+  }
+  int next = hy0;   /* the next row to come into the column sums */
+  for (int y = ry0; y < ry1; y++) {
+    for (; next <= y + r && next < hy1; next++) {   /* rows in: their sums from the planes as they were */
+      float *slot = hs + (size_t)((next - hy0) % ring) * nq * rw;
+      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, slot);
+      for (size_t i = 0; i < (size_t)nq * rw; i++) acc[i] += slot[i];
+    }
+    int out = y - r - 1;
+    if (out >= hy0) {   /* the row that leaves */
+      const float *slot = hs + (size_t)((out - hy0) % ring) * nq * rw;
+      for (size_t i = 0; i < (size_t)nq * rw; i++) acc[i] -= slot[i];
+    }
+    float rows = (float)((y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1);
+    if (weight) {   /* the box's pixels: weighted ones */
+      const double *cnt = acc + (size_t)nplanes * rw;
+      for (int x = 0; x < rw; x++) inv[x] = cnt[x] > 0.5 ? (float)(1 / cnt[x]) : 0;
+    } else {        /* those inside the image */
+      for (int x = 0; x < rw; x++) inv[x] = 1 / (rows * cols[x]);
+    }
+    for (int k = 0; k < nplanes; k++) {   /* row y's own sums are in the ring: it may change now */
+      float *dst = planes[k] + (size_t)y * w + rx0;
+      const double *sum = acc + (size_t)k * rw;
+      for (int x = 0; x < rw; x++) dst[x] = (float)sum[x] * inv[x];
+    }
+  }
+  free(cols);
+  free(inv);
   free(acc);
+  free(masked);
+  free(hs);
 }
 
 void ink_box_filter(float **planes, int nplanes, const uint8_t *weight, int w, int h, int side) {
-  int r = side / 2;
-  if (r <= 0 || nplanes <= 0) return;
-  size_t n = (size_t)w * h;
-  float *buf = xmalloc((size_t)(nplanes + 1) * n * sizeof *buf + 1);
-  float *rows[16];
-  if (nplanes > 16) nplanes = 16;
-  for (int k = 0; k < nplanes; k++) rows[k] = buf + (size_t)k * n;
-  float *counts = buf + (size_t)nplanes * n;
-  for (int y = 0; y < h; y++) {
-    const uint8_t *wt = weight ? weight + (size_t)y * w : NULL;
-    for (int k = 0; k < nplanes; k++) row_sums(planes[k] + (size_t)y * w, wt, w, r, rows[k] + (size_t)y * w);
-    row_counts(wt, w, r, counts + (size_t)y * w);
-  }
-  column_pass(rows, nplanes, counts, w, h, r, planes);
-  free(buf);
+  ink_box_filter_rect(planes, nplanes, weight, w, h, side, 0, 0, w, h);
 }

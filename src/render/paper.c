@@ -92,9 +92,14 @@ static void normalise_absorb(Paper *p, double grain) {
   }
 }
 
+/* The linear values and the codes of the display values. */
 static void fill_linear(Paper *p) {
   size_t n = (size_t)p->width * p->height * 3;
-  for (size_t i = 0; i < n; i++) p->linear[i] = display_to_linear(p->display[i]);
+  p->code = xmalloc(n + 1);
+  for (size_t i = 0; i < n; i++) {
+    p->linear[i] = display_to_linear(p->display[i]);
+    p->code[i] = (uint8_t)(p->display[i] * 255 + 0.5f);
+  }
 }
 
 /* Procedural xuan paper. */
@@ -191,13 +196,17 @@ static int image_sheet(const SceneSheet *sh, Paper *p, char *err, size_t errlen)
 int paper_create(const SceneSheet *sh, Color background, Paper *p, char *err, size_t errlen) {
   memset(p, 0, sizeof *p);
   if (sh && sh->texture) return strcmp(sh->texture, "xuan") ? image_sheet(sh, p, err, errlen) : xuan(sh, p, err, errlen);
-  p->width = p->height = 1;   /* the flat background */
-  p->display = xmalloc(3 * sizeof *p->display);
-  p->linear = xmalloc(3 * sizeof *p->linear);
-  float bg[3] = {background.r, background.g, background.b};
-  for (int c = 0; c < 3; c++) {
-    p->linear[c] = bg[c];
-    p->display[c] = display_from_linear(bg[c]);
+  p->width = PAPER_FLAT_RUN;   /* the flat background: a row of one colour, so runs are long */
+  p->height = 1;
+  p->display = xmalloc(3 * PAPER_FLAT_RUN * sizeof *p->display);
+  p->linear = xmalloc(3 * PAPER_FLAT_RUN * sizeof *p->linear);
+  float bg[3] = {display_from_linear(background.r), display_from_linear(background.g),
+                 display_from_linear(background.b)};
+  for (int i = 0; i < PAPER_FLAT_RUN; i++)
+    for (int c = 0; c < 3; c++) p->display[3 * i + c] = bg[c];
+  fill_linear(p);
+  for (int i = 0; i < PAPER_FLAT_RUN; i++) {   /* the background's own linear values, not their round trip */
+    p->linear[3 * i] = background.r; p->linear[3 * i + 1] = background.g; p->linear[3 * i + 2] = background.b;
   }
   p->alpha = background.a;
   return 1;
@@ -207,5 +216,6 @@ void paper_free(Paper *p) {
   free(p->display);
   free(p->linear);
   free(p->absorb);
+  free(p->code);
   memset(p, 0, sizeof *p);
 }

@@ -11,11 +11,14 @@
 #define render_paper_h
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "../scene/scene.h"
 
 /* Side of the procedural tile at scale 1, in pixels. */
 #define PAPER_TILE 384
+/* Texels of the flat background's tile (one colour). */
+#define PAPER_FLAT_RUN 256
 /* Most texels a tile may have (an image sheet at a large scale). */
 #define PAPER_MAX_TEXELS (4096LL * 4096LL)
 
@@ -23,6 +26,7 @@ typedef struct Paper {
   int width, height;     /* the tile; pixel (x, y) shows texel (x mod width, y mod height) */
   float *display;        /* 3 a texel: sRGB display values */
   float *linear;         /* 3 a texel: the same in linear light */
+  uint8_t *code;         /* 3 a texel: the display values as 8-bit codes, rounded */
   float *absorb;         /* 1 a texel; NULL: 1 everywhere (a flat colour) */
   float alpha;           /* 1, or the alpha of a flat background */
 } Paper;

@@ -813,7 +813,8 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, i
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface, left to right */
     if (obj[k] < 0) { e = k + 1; continue; }            /* background: its lanes go unused */
     for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
-    shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e);
+    if (objects[obj[k]].style->alpha > 0)               /* ink reads no surface: the canvas paints it */
+      shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e);
   }
   for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
     if (obj[k] < 0) {                                    /* a run of background */
@@ -845,6 +846,13 @@ static void put_row(const TileJob *job, int x0, int y, int n, const float *prow)
   if (!img->data)
     image_encode8(prow, &img->data8[((size_t)y * img->width + x0) * img->channels], (size_t)n,
                   img->channels);
+}
+
+/* Does a sample of object obj encode as the background's codes: the
+** background itself, or (over a transparent one) a style the canvas paints
+** later, whose samples are transparent black too? */
+static inline int clear_at(const TileJob *job, int32_t obj, float bg_alpha) {
+  return obj < 0 || (bg_alpha == 0 && job->f->objects[obj].style->alpha == 0);
 }
 
 /* One sample a pixel: the sample is the pixel. A float image is shaded in
@@ -887,8 +895,8 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, Sh
     }
     shade_row(job, rt, i, rt->x0, y, n, prow, nc, bgu, row);
     for (int e, j = 0; j < n; j = e) {   /* runs of background and of shaded samples */
-      int back = obj[j] < 0;
-      for (e = j + 1; e < n && (obj[e] < 0) == back; e++) {}
+      int back = clear_at(job, obj[j], bg.a);
+      for (e = j + 1; e < n && clear_at(job, obj[e], bg.a) == back; e++) {}
       if (back) memcpy(d + j * nc, bgrow, (size_t)((e - j) * nc));
       else image_encode8(prow + j * nc, d + j * nc, (size_t)(e - j), nc);
     }
@@ -1288,22 +1296,24 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   if (canvas) f.background = (Color){0, 0, 0, 0};
   /* RGB over an opaque background (smaller, and PNG encodes it faster);
   ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
-  ** they finish each row, unless origami sheets or the canvas (both in
-  ** float) come over it */
+  ** they finish each row (not when the canvas comes under it), unless
+  ** origami sheets (composited in float) come over it */
   int nc = f.background.a >= 1 ? 3 : 4;
   double t0 = stats_now();
-  if (o->out8 && s->norigami == 0 && !canvas) {
+  if (o->out8 && s->norigami == 0) {
     /* the tile pass writes every byte: no clearing, and each page is first
     ** touched by the worker filling it (clearing and faulting the pages in
     ** here cost ~3 ms at 1080p, alone) */
     *out = image_create8_unset(f.width, f.height, nc);
+  } else if (canvas && s->norigami == 0) {
+    *out = image_create_unset(f.width, f.height, nc);   /* every value written, as above */
   } else {
     *out = image_create(f.width, f.height, nc);
     mem_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
   }
   stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
   /* an 8-bit frame nothing is drawn over goes to its file while the pass runs */
-  const RenderRows *rows = o->rows && (*out)->data8 && !line_frame_draws(&f) ? o->rows : NULL;
+  const RenderRows *rows = o->rows && (*out)->data8 && !canvas && !line_frame_draws(&f) ? o->rows : NULL;
   if (rows) rows->begin(rows->ctx, *out);
   /* origami composes with meshes through the sample depths, and the canvas
   ** reads the ink objects' samples: both need the G-buffer */
@@ -1316,7 +1326,7 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
     ok = composite_origami(s, &f, *out, gbuf);
     stats_record("origami", stats_now() - t1);
   }
-  if (ok && canvas) ok = canvas_paint(s, &f, gbuf, out);
+  if (ok && canvas) ok = canvas_paint(s, &f, gbuf, out, o->out8);
   if (!gbuf_out) gbuf_destroy(gbuf);
   /* lines (src/render/lines.h): strokes composited over the shaded image */
   if (!ok || !line_render_frame(&f, thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {

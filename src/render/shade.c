@@ -45,6 +45,7 @@ ShadeSpanFn shade_span_model(ShadeKind kind) {
   if (kind == SHADE_TOON) return shade_toon_span;
   if (kind == SHADE_BOKASHI) return shade_bokashi_span;
   if (kind == SHADE_THRESHOLD) return shade_threshold_span;
+  if (kind == SHADE_INK) return shade_ink_span;
   return shade_span_generic;
 }
 

@@ -271,8 +271,10 @@ void shade_gouraud(const ShadeSample *s, float rgb[3]);
 void shade_phong(const ShadeSample *s, float rgb[3]);
 void shade_toon(const ShadeSample *s, float rgb[3]);
 void shade_bokashi(const ShadeSample *s, float rgb[3]);
-/* shade ink (shade_ink.c): nothing, transparent: the canvas paints it. */
+/* shade ink (shade_ink.c): nothing, transparent: the canvas paints it
+** (the span shader fills the run with zeros, reading no surface). */
 void shade_ink(const ShadeSample *s, float rgb[3]);
 void shade_threshold(const ShadeSample *s, float rgb[3]);
+void shade_ink_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride);
 
 #endif

@@ -136,6 +136,12 @@ void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o) {
   for (int i = 0; i < m->nverts; i++) o->vink[i] = grey_at(f, k, o->wpos[i], o->wnrm[i]);
 }
 
+void shade_ink_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride) {
+  (void)r;
+  (void)o;
+  for (int k = k0; k < k1; k++) rgb[(size_t)k * stride] = rgb[(size_t)k * stride + 1] = rgb[(size_t)k * stride + 2] = 0;
+}
+
 void shade_ink(const ShadeSample *s, float rgb[3]) {
   (void)s;
   rgb[0] = rgb[1] = rgb[2] = 0;   /* premultiplied by its alpha 0 */

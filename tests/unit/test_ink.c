@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../src/base/rng.h"
 #include "../../src/render/canvas.h"
 #include "../../src/render/ink.h"
 #include "../../src/render/paper.h"
@@ -43,6 +44,26 @@ static void wave_canvas(InkCanvas *c, const InkStyle *k, int w, int h) {
       c->level[p] = (uint8_t)ink_label(k, g);
       c->style[p] = 0;
       c->ink[p] = k->ink[c->level[p]];
+    }
+  ink_canvas_wet(c);
+}
+
+/* Blocks of random levels (2 x 2 pixels, seeded), some off the canvas:
+** every level touches every other, the paper among them. */
+static void random_canvas(InkCanvas *c, const InkStyle *k, int w, int h) {
+  ink_canvas_init(c, w, h, k, 1);
+  Rng r;
+  rng_seed(&r, 7, 1);
+  for (int by = 0; by < h; by += 2)
+    for (int bx = 0; bx < w; bx += 2) {
+      int l = (int)(rng_uniform(&r) * 4.2);   /* 4: off the canvas, now and then */
+      for (int y = by; y < by + 2 && y < h; y++)
+        for (int x = bx; x < bx + 2 && x < w; x++) {
+          size_t p = (size_t)y * w + x;
+          c->level[p] = l > 3 ? INK_OFF : (uint8_t)l;
+          c->style[p] = l > 0 && l < 4 ? 0 : INK_NO_STYLE;
+          c->ink[p] = l < 4 ? k->ink[l] : 0;
+        }
     }
   ink_canvas_wet(c);
 }
@@ -173,6 +194,42 @@ TEST(total_ink_never_decreases) {
     last = t;
     ink_canvas_free(&c);
     if (passes >= 9) break;
+  }
+}
+
+/* The fast diffusion (looking only where something can change) gives what
+** looking at every pixel in every pass gives, bit for bit: on smooth
+** levels (the paper level inside), on the disc, and on random blocks where
+** every level touches every other and the paper. */
+TEST(frontier_equals_every_pixel) {
+  for (int st = 0; st < 3; st++) {
+    InkStyle k = ink_style(st);
+    InkCanvas a, b;
+    wave_canvas(&a, &k, 120, 90);
+    wave_canvas(&b, &k, 120, 90);
+    InkDiffuseStats sa, sb;
+    ink_diffuse(&a, -1, &sa);
+    ink_diffuse_every_pixel(&b, -1, &sb);
+    CHECK(sa.transfers > 100);
+    CHECK_EQ_INT(sa.transfers, sb.transfers);
+    size_t n = 120 * 90;
+    CHECK(!memcmp(a.ink, b.ink, n * sizeof *a.ink));
+    CHECK(!memcmp(a.level, b.level, n));
+    CHECK(!memcmp(a.water, b.water, n * sizeof *a.water));
+    ink_canvas_free(&a);
+    ink_canvas_free(&b);
+    for (int shape = 0; shape < 2; shape++) {
+      if (shape) { random_canvas(&a, &k, 80, 80); random_canvas(&b, &k, 80, 80); }
+      else { disc_canvas(&a, &k, 80, 80); disc_canvas(&b, &k, 80, 80); }
+      ink_diffuse(&a, -1, &sa);
+      ink_diffuse_every_pixel(&b, -1, &sb);
+      CHECK(sa.transfers > 100);
+      CHECK_EQ_INT(sa.transfers, sb.transfers);
+      CHECK(!memcmp(a.ink, b.ink, 80 * 80 * sizeof *a.ink));
+      CHECK(!memcmp(a.level, b.level, 80 * 80));
+      ink_canvas_free(&a);
+      ink_canvas_free(&b);
+    }
   }
 }
 
@@ -565,6 +622,7 @@ int main(void) {
   RUN(constant_image_unchanged);
   RUN(ink_moves_darker_to_lighter);
   RUN(total_ink_never_decreases);
+  RUN(frontier_equals_every_pixel);
   RUN(larger_strength_grows_more);
   RUN(the_three_rules);
   RUN(one_pass_one_pixel);
