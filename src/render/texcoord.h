@@ -62,20 +62,12 @@ void texcoord_triangle(TexTriangle *tt, const RenderObject *o, int face, int pro
 ** else box. */
 int texcoord_resolve(const RenderObject *o, int projection);
 
-/* Derivatives past this many texture units a pixel are capped (an edge-on
-** triangle would give infinities). */
-#define TEXCOORD_MAX_RATE 1e6f
-
-static inline float texcoord_cap(float r) {
-  r = r < TEXCOORD_MAX_RATE ? r : TEXCOORD_MAX_RATE;
-  return r > -TEXCOORD_MAX_RATE ? r : -TEXCOORD_MAX_RATE;
-}
-
 /* The coordinates of n samples of triangle tt at barycentrics bary[i] and
 ** world points (px, py, pz)[i] (on its plane) into (u, v)[i], and their
 ** derivatives per output pixel into ux = du/dx, uy = du/dy, vx, vy. One
 ** loop a camera kind, the triangle's constants held, so the samples run
-** side by side. */
+** side by side. Near edge-on the derivatives are large but finite
+** (texcoord_triangle bounds 1 / (q.n)); the layers cap what they take. */
 static inline void texcoord_run(const TexTriangle *tt, const TexView *v, int n, const float (*bary)[2],
                                 const float *restrict px, const float *restrict py,
                                 const float *restrict pz, float *restrict u, float *restrict w,
@@ -89,8 +81,8 @@ static inline void texcoord_run(const TexTriangle *tt, const TexView *v, int n, 
       float b1 = bary[i][0], b2 = bary[i][1];
       u[i] = tt->t0[0] + b1 * tt->d1[0] + b2 * tt->d2[0];
       w[i] = tt->t0[1] + b1 * tt->d1[1] + b2 * tt->d2[1];
-      ux[i] = texcoord_cap(rx0); uy[i] = texcoord_cap(ry0);
-      vx[i] = texcoord_cap(rx1); vy[i] = texcoord_cap(ry1);
+      ux[i] = rx0; uy[i] = ry0;
+      vx[i] = rx1; vy[i] = ry1;
     }
     return;
   }
@@ -102,10 +94,10 @@ static inline void texcoord_run(const TexTriangle *tt, const TexView *v, int n, 
     float gq0 = tt->gq[0] + du, gq1 = tt->gq[1] + dv;   /* G q at p: affine over the triangle */
     float depth = (px[i] - v->eye[0]) * v->fwd[0] + (py[i] - v->eye[1]) * v->fwd[1] +
                   (pz[i] - v->eye[2]) * v->fwd[2];
-    ux[i] = texcoord_cap(depth * (tt->gx[0] - gq0 * kx));
-    uy[i] = texcoord_cap(depth * (tt->gy[0] - gq0 * ky));
-    vx[i] = texcoord_cap(depth * (tt->gx[1] - gq1 * kx));
-    vy[i] = texcoord_cap(depth * (tt->gy[1] - gq1 * ky));
+    ux[i] = depth * (tt->gx[0] - gq0 * kx);
+    uy[i] = depth * (tt->gy[0] - gq0 * ky);
+    vx[i] = depth * (tt->gx[1] - gq1 * kx);
+    vy[i] = depth * (tt->gy[1] - gq1 * ky);
   }
 }
 
