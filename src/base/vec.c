@@ -42,6 +42,27 @@ Mat4 m4_rotate_xyz(Vec3 d) {
   return m4_mul(rz, m4_mul(ry, rx));   /* x first, then y, then z */
 }
 
+Mat4 m4_rotate_axis(double deg, Vec3 axis) {
+  Vec3 u = v3_norm(axis);
+  double s, c;
+  sincos_deg(deg, &s, &c);
+  double t = 1 - c;
+  Mat4 r = m4_identity();   /* Rodrigues' rotation matrix */
+  r.m[0][0] = c + u.x * u.x * t;       r.m[0][1] = u.x * u.y * t - u.z * s; r.m[0][2] = u.x * u.z * t + u.y * s;
+  r.m[1][0] = u.y * u.x * t + u.z * s; r.m[1][1] = c + u.y * u.y * t;       r.m[1][2] = u.y * u.z * t - u.x * s;
+  r.m[2][0] = u.z * u.x * t - u.y * s; r.m[2][1] = u.z * u.y * t + u.x * s; r.m[2][2] = c + u.z * u.z * t;
+  return r;
+}
+
+Mat4 m4_mirror(Vec3 n) {
+  Vec3 u = v3_norm(n);
+  Mat4 r = m4_identity();   /* I - 2 u u^T */
+  double d[3] = {u.x, u.y, u.z};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) r.m[i][j] -= 2 * d[i] * d[j];
+  return r;
+}
+
 Mat4 m4_transpose(Mat4 a) {
   Mat4 r;
   for (int i = 0; i < 4; i++)

@@ -54,6 +54,8 @@ static inline Vec3 m4_dir(Mat4 a, Vec3 d) {  /* direction transform (w = 0) */
 Mat4 m4_translate(Vec3 t);
 Mat4 m4_scale(Vec3 s);
 Mat4 m4_rotate_xyz(Vec3 degrees);   /* about x, then y, then z (OpenSCAD order) */
+Mat4 m4_rotate_axis(double degrees, Vec3 axis);   /* right-handed about axis (unit or not) */
+Mat4 m4_mirror(Vec3 normal);       /* reflection in the plane through the origin across normal */
 Mat4 m4_inverse(Mat4 a, int *ok);   /* *ok = 0 when singular */
 Mat4 m4_transpose(Mat4 a);
 

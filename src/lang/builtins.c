@@ -16,6 +16,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,11 +34,11 @@
 
 /* ---- argument helpers ------------------------------------------------- */
 
-static SrcRange arg_loc(const ENode *call, int i) {
+SrcRange bi_arg_loc(const ENode *call, int i) {
   return i < call->n ? call->kids[i]->range : call->range;
 }
 
-static const char *bname(const ENode *call) {
+const char *bi_name(const ENode *call) {
   return call->what ? call->what : "this function";
 }
 
@@ -46,36 +47,36 @@ static const char *article(const Value *v) {
   return strchr("aeiou", t[0]) ? "an" : "a";
 }
 
-static int type_error(Eval *ev, const ENode *call, int i, const char *want, const Value *v) {
-  ev_error(ev, arg_loc(call, i), "`%s` expects %s as argument %d; found %s %s", bname(call), want, i + 1,
+int bi_type_error(Eval *ev, const ENode *call, int i, const char *want, const Value *v) {
+  ev_error(ev, bi_arg_loc(call, i), "`%s` expects %s as argument %d; found %s %s", bi_name(call), want, i + 1,
            article(v), val_type_name(v));
   return -1;
 }
 
-static int get_num(Eval *ev, Value *a, int i, const ENode *call, double *out) {
+int bi_num(Eval *ev, Value *a, int i, const ENode *call, double *out) {
   *out = 0;
   if (a[i].kind == V_NUM) { *out = a[i].u.n; return 0; }
-  return type_error(ev, call, i, "a number", &a[i]);
+  return bi_type_error(ev, call, i, "a number", &a[i]);
 }
 
-static int opt_num(Eval *ev, Value *a, int i, const ENode *call, double def, double *out) {
+int bi_opt_num(Eval *ev, Value *a, int i, const ENode *call, double def, double *out) {
   *out = def;
   if (a[i].kind == V_UNSET || a[i].kind == V_UNDEF) { *out = def; return 0; }
-  return get_num(ev, a, i, call, out);
+  return bi_num(ev, a, i, call, out);
 }
 
-static int get_list(Eval *ev, Value *a, int i, const ENode *call, List **out) {
+int bi_list(Eval *ev, Value *a, int i, const ENode *call, List **out) {
   *out = NULL;
   if (a[i].kind == V_LIST) { *out = a[i].u.l; return 0; }
-  return type_error(ev, call, i, "a list", &a[i]);
+  return bi_type_error(ev, call, i, "a list", &a[i]);
 }
 
 static int vec3_finite(Vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
 
-static int get_vec3(Eval *ev, Value *a, int i, const ENode *call, Vec3 *out) {
+int bi_vec3(Eval *ev, Value *a, int i, const ENode *call, Vec3 *out) {
   *out = v3(0, 0, 0);
   if (val_to_point(&a[i], out)) return 0;
-  return type_error(ev, call, i, "a point [x, y, z]", &a[i]);
+  return bi_type_error(ev, call, i, "a point [x, y, z]", &a[i]);
 }
 
 static Value num_list(Eval *ev, const double *x, int n) {
@@ -122,7 +123,7 @@ static Value math1(Eval *ev, Value v, Math1 f, const ENode *call) {
       if ((l->v[i] = math1(ev, v.u.l->v[i], f, call)).kind == V_ERR) return val_err();
     return val_ptr(V_LIST, l);
   }
-  type_error(ev, call, 0, "a number or a vector", &v);
+  bi_type_error(ev, call, 0, "a number or a vector", &v);
   return val_err();
 }
 
@@ -138,19 +139,19 @@ MATH1(bi_round, round)
 static Value bi_log(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[1].kind == V_UNSET) return bi_log10(ev, a, n, call);
   double b, x;
-  if (get_num(ev, a, 0, call, &b) || get_num(ev, a, 1, call, &x)) return val_err();
+  if (bi_num(ev, a, 0, call, &b) || bi_num(ev, a, 1, call, &x)) return val_err();
   return val_num(log(x) / log(b));
 }
 
 static Value bi_atan2(Eval *ev, Value *a, int n, const ENode *call) {
   double y, x;
-  if (get_num(ev, a, 0, call, &y) || get_num(ev, a, 1, call, &x)) return val_err();
+  if (bi_num(ev, a, 0, call, &y) || bi_num(ev, a, 1, call, &x)) return val_err();
   return val_num(atan2(y, x) * 180.0 / M_PI);
 }
 
 static Value bi_pow(Eval *ev, Value *a, int n, const ENode *call) {
   double x, y;
-  if (get_num(ev, a, 0, call, &x) || get_num(ev, a, 1, call, &y)) return val_err();
+  if (bi_num(ev, a, 0, call, &x) || bi_num(ev, a, 1, call, &y)) return val_err();
   return val_num(pow(x, y));
 }
 
@@ -162,7 +163,7 @@ static Value minmax(Eval *ev, Value *a, int n, const ENode *call, int want_max) 
   double best = 0;
   for (int i = 0; i < n; i++) {
     if (v[i].kind != V_NUM) {
-      type_error(ev, call, v == a ? i : 0, "numbers (or one list of numbers)", &v[i]);
+      bi_type_error(ev, call, v == a ? i : 0, "numbers (or one list of numbers)", &v[i]);
       return val_err();
     }
     if (i == 0 || (want_max ? v[i].u.n > best : v[i].u.n < best)) best = v[i].u.n;
@@ -175,13 +176,13 @@ static Value bi_max(Eval *ev, Value *a, int n, const ENode *call) { return minma
 
 static Value bi_clamp(Eval *ev, Value *a, int n, const ENode *call) {
   double x, lo, hi;
-  if (get_num(ev, a, 0, call, &x) || get_num(ev, a, 1, call, &lo) || get_num(ev, a, 2, call, &hi)) return val_err();
+  if (bi_num(ev, a, 0, call, &x) || bi_num(ev, a, 1, call, &lo) || bi_num(ev, a, 2, call, &hi)) return val_err();
   return val_num(x < lo ? lo : x > hi ? hi : x);
 }
 
 static Value bi_smoothstep(Eval *ev, Value *a, int n, const ENode *call) {
   double e0, e1, x;
-  if (get_num(ev, a, 0, call, &e0) || get_num(ev, a, 1, call, &e1) || get_num(ev, a, 2, call, &x)) return val_err();
+  if (bi_num(ev, a, 0, call, &e0) || bi_num(ev, a, 1, call, &e1) || bi_num(ev, a, 2, call, &x)) return val_err();
   double t = e1 == e0 ? (x < e0 ? 0 : 1) : (x - e0) / (e1 - e0);
   t = t < 0 ? 0 : t > 1 ? 1 : t;
   return val_num(t * t * (3 - 2 * t));
@@ -190,7 +191,7 @@ static Value bi_smoothstep(Eval *ev, Value *a, int n, const ENode *call) {
 /* lerp(a, b, t) = a + (b - a) * t on numbers, vectors and colours. */
 static Value bi_lerp(Eval *ev, Value *a, int n, const ENode *call) {
   double t;
-  if (get_num(ev, a, 2, call, &t)) return val_err();
+  if (bi_num(ev, a, 2, call, &t)) return val_err();
   if (a[0].kind == V_NUM && a[1].kind == V_NUM) return val_num(a[0].u.n + (a[1].u.n - a[0].u.n) * t);
   if (a[0].kind == V_COLOR && a[1].kind == V_COLOR) {
     const Color *p = a[0].u.c, *q = a[1].u.c;
@@ -202,7 +203,7 @@ static Value bi_lerp(Eval *ev, Value *a, int n, const ENode *call) {
     for (int i = 0; i < l->n; i++) {
       Value x = a[0].u.l->v[i], y = a[1].u.l->v[i];
       if (x.kind != V_NUM || y.kind != V_NUM) {
-        type_error(ev, call, 0, "two vectors of numbers", &x);
+        bi_type_error(ev, call, 0, "two vectors of numbers", &x);
         return val_err();
       }
       l->v[i] = val_num(x.u.n + (y.u.n - x.u.n) * t);
@@ -217,9 +218,9 @@ static Value bi_lerp(Eval *ev, Value *a, int n, const ENode *call) {
 /* ---- vectors ------------------------------------------------------------- */
 
 static int num_vector(Eval *ev, Value *a, int i, const ENode *call, List **out) {
-  if (get_list(ev, a, i, call, out)) return -1;
+  if (bi_list(ev, a, i, call, out)) return -1;
   for (int k = 0; k < (*out)->n; k++)
-    if ((*out)->v[k].kind != V_NUM) return type_error(ev, call, i, "a vector of numbers", &a[i]);
+    if ((*out)->v[k].kind != V_NUM) return bi_type_error(ev, call, i, "a vector of numbers", &a[i]);
   return 0;
 }
 
@@ -242,7 +243,7 @@ static Value bi_cross(Eval *ev, Value *a, int n, const ENode *call) {
       x->v[0].kind == V_NUM && x->v[1].kind == V_NUM && y->v[0].kind == V_NUM && y->v[1].kind == V_NUM)
     return val_num(x->v[0].u.n * y->v[1].u.n - x->v[1].u.n * y->v[0].u.n);
   Vec3 p, q;
-  if (get_vec3(ev, a, 0, call, &p) || get_vec3(ev, a, 1, call, &q)) return val_err();
+  if (bi_vec3(ev, a, 0, call, &p) || bi_vec3(ev, a, 1, call, &q)) return val_err();
   return vec3_value(ev, v3_cross(p, q));
 }
 
@@ -275,7 +276,7 @@ static Value bi_len(Eval *ev, Value *a, int n, const ENode *call) {
   case V_LIST: return val_num(a[0].u.l->n);
   case V_STR: return val_num(utf8_count(a[0].u.s));
   case V_RANGE: return val_num(val_range_count(a[0].u.r));
-  default: type_error(ev, call, 0, "a list, a string or a range", &a[0]); return val_err();
+  default: bi_type_error(ev, call, 0, "a list, a string or a range", &a[0]); return val_err();
   }
 }
 
@@ -307,7 +308,7 @@ static Value bi_reverse(Eval *ev, Value *a, int n, const ENode *call) {
     return out;
   }
   List *x;
-  if (get_list(ev, a, 0, call, &x)) return val_err();
+  if (bi_list(ev, a, 0, call, &x)) return val_err();
   List *l = ev_list(ev, x->n);
   for (int i = 0; i < x->n; i++) l->v[i] = x->v[x->n - 1 - i];
   return val_ptr(V_LIST, l);
@@ -318,7 +319,7 @@ static Value bi_reverse(Eval *ev, Value *a, int n, const ENode *call) {
 static Value bi_slice(Eval *ev, Value *a, int n, const ENode *call) {
   List *x;
   double s, e;
-  if (get_list(ev, a, 0, call, &x) || get_num(ev, a, 1, call, &s) || opt_num(ev, a, 2, call, x->n, &e))
+  if (bi_list(ev, a, 0, call, &x) || bi_num(ev, a, 1, call, &s) || bi_opt_num(ev, a, 2, call, x->n, &e))
     return val_err();
   long long i0 = (long long)floor(s), i1 = (long long)floor(e);
   if (i0 < 0) i0 += x->n;
@@ -333,11 +334,11 @@ static Value bi_slice(Eval *ev, Value *a, int n, const ENode *call) {
 
 static Value bi_range(Eval *ev, Value *a, int n, const ENode *call) {
   double lo = 0, hi, step;
-  if (a[1].kind == V_UNSET) { if (get_num(ev, a, 0, call, &hi)) return val_err(); }
-  else if (get_num(ev, a, 0, call, &lo) || get_num(ev, a, 1, call, &hi)) return val_err();
-  if (opt_num(ev, a, 2, call, 1, &step)) return val_err();
+  if (a[1].kind == V_UNSET) { if (bi_num(ev, a, 0, call, &hi)) return val_err(); }
+  else if (bi_num(ev, a, 0, call, &lo) || bi_num(ev, a, 1, call, &hi)) return val_err();
+  if (bi_opt_num(ev, a, 2, call, 1, &step)) return val_err();
   if (step == 0) {
-    ev_error(ev, arg_loc(call, 2), "`range` needs a step other than 0");
+    ev_error(ev, bi_arg_loc(call, 2), "`range` needs a step other than 0");
     return val_err();
   }
   double count = ceil((hi - lo) / step);
@@ -443,9 +444,9 @@ static Value search_string(Search *s, const char *find) {
 
 static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
   double num, col;
-  if (opt_num(ev, a, 2, call, 1, &num) || opt_num(ev, a, 3, call, 0, &col)) return val_err();
+  if (bi_opt_num(ev, a, 2, call, 1, &num) || bi_opt_num(ev, a, 3, call, 0, &col)) return val_err();
   if (col < 0 || col != floor(col) || col > INT_MAX) {
-    type_error(ev, call, 3, "a column index (a whole number, 0 or more)", &a[3]);
+    bi_type_error(ev, call, 3, "a column index (a whole number, 0 or more)", &a[3]);
     return val_err();
   }
   /* OpenSCAD takes the count as an unsigned integer: a negative one asks for all */
@@ -492,7 +493,7 @@ static int put_utf8(char *d, unsigned c) {
 /* The UTF-8 of code point v at buf + *len; nonzero (reported as argument i) when v is none. */
 static int put_code(Eval *ev, const ENode *call, int i, const Value *v, char *buf, int *len) {
   if (v->kind != V_NUM || v->u.n < 1 || v->u.n > 0x10FFFF || (v->u.n >= 0xD800 && v->u.n < 0xE000))
-    return type_error(ev, call, i, "Unicode code points (1 to 0x10FFFF)", v);
+    return bi_type_error(ev, call, i, "Unicode code points (1 to 0x10FFFF)", v);
   *len += put_utf8(buf + *len, (unsigned)v->u.n);
   return 0;
 }
@@ -514,7 +515,7 @@ static Value bi_chr(Eval *ev, Value *a, int n, const ENode *call) {
 
 static Value bi_ord(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[0].kind != V_STR || a[0].u.s->len == 0) {
-    type_error(ev, call, 0, "a non-empty string", &a[0]);
+    bi_type_error(ev, call, 0, "a non-empty string", &a[0]);
     return val_err();
   }
   const unsigned char *s = (const unsigned char *)a[0].u.s->s;
@@ -528,11 +529,11 @@ static Value bi_ord(Eval *ev, Value *a, int n, const ENode *call) {
 /* rands(min, max, n, seed = 0): n uniform numbers from PCG32, stream 0. */
 static Value bi_rands(Eval *ev, Value *a, int n, const ENode *call) {
   double lo, hi, cnt, seed;
-  if (get_num(ev, a, 0, call, &lo) || get_num(ev, a, 1, call, &hi) || get_num(ev, a, 2, call, &cnt) ||
-      opt_num(ev, a, 3, call, 0, &seed))
+  if (bi_num(ev, a, 0, call, &lo) || bi_num(ev, a, 1, call, &hi) || bi_num(ev, a, 2, call, &cnt) ||
+      bi_opt_num(ev, a, 3, call, 0, &seed))
     return val_err();
   if (cnt < 0 || ev_list_limit(ev, (long long)cnt, call->range)) {
-    if (cnt < 0) ev_error(ev, arg_loc(call, 2), "`rands` needs a count of 0 or more");
+    if (cnt < 0) ev_error(ev, bi_arg_loc(call, 2), "`rands` needs a count of 0 or more");
     return val_err();
   }
   Rng r;
@@ -553,32 +554,41 @@ IS(bi_is_list, a[0].kind == V_LIST) IS(bi_is_bool, a[0].kind == V_BOOL) IS(bi_is
 
 static Value bi_translate(Eval *ev, Value *a, int n, const ENode *call) {
   Vec3 t;
-  if (get_vec3(ev, a, 0, call, &t)) return val_err();
+  if (bi_vec3(ev, a, 0, call, &t)) return val_err();
   return ev_xform(ev, m4_translate(t));
 }
 
-/* rotate([ax, ay, az]) about x, then y, then z; rotate(a) about z. */
+/* rotate([ax, ay, az]) about x, then y, then z; rotate(a) about z;
+** rotate(a, v) by a degrees about axis v (OpenSCAD's three forms). */
 static Value bi_rotate(Eval *ev, Value *a, int n, const ENode *call) {
-  Vec3 r;
+  Vec3 r, axis;
+  if (a[1].kind != V_UNSET) {
+    if (bi_num(ev, a, 0, call, &r.x) || bi_vec3(ev, a, 1, call, &axis)) return val_err();
+    if (v3_len(axis) == 0) {
+      ev_error(ev, bi_arg_loc(call, 1), "`rotate`: the axis [0, 0, 0] has no direction");
+      return val_err();
+    }
+    return ev_xform(ev, m4_rotate_axis(r.x, axis));
+  }
   if (a[0].kind == V_NUM) r = v3(0, 0, a[0].u.n);
-  else if (get_vec3(ev, a, 0, call, &r)) return val_err();
+  else if (bi_vec3(ev, a, 0, call, &r)) return val_err();
   return ev_xform(ev, m4_rotate_xyz(r));
 }
 
 static Value bi_scale(Eval *ev, Value *a, int n, const ENode *call) {
   Vec3 s;
   if (a[0].kind == V_NUM) s = v3(a[0].u.n, a[0].u.n, a[0].u.n);
-  else if (!val_to_point(&a[0], &s) || a[0].u.l->n != 3) {
-    type_error(ev, call, 0, "a number or [sx, sy, sz]", &a[0]);
+  else if (!val_to_point(&a[0], &s)) {
+    bi_type_error(ev, call, 0, "a number or [sx, sy, sz]", &a[0]);
     return val_err();
-  }
+  } else if (a[0].u.l->n == 2) s.z = 1;   /* OpenSCAD's 2D scale([sx, sy]) */
   return ev_xform(ev, m4_scale(s));
 }
 
 /* matrix(rows): 4 rows of 4, or 3 rows of 4 (the last row is 0 0 0 1). */
 static Value bi_matrix(Eval *ev, Value *a, int n, const ENode *call) {
   List *rows;
-  if (get_list(ev, a, 0, call, &rows)) return val_err();
+  if (bi_list(ev, a, 0, call, &rows)) return val_err();
   Mat4 m = m4_identity();
   if (rows->n != 3 && rows->n != 4) goto bad;
   for (int i = 0; i < rows->n; i++) {
@@ -591,7 +601,7 @@ static Value bi_matrix(Eval *ev, Value *a, int n, const ENode *call) {
   }
   return ev_xform(ev, m);
 bad:
-  type_error(ev, call, 0, "3 or 4 rows of 4 numbers", &a[0]);
+  bi_type_error(ev, call, 0, "3 or 4 rows of 4 numbers", &a[0]);
   return val_err();
 }
 
@@ -599,14 +609,14 @@ bad:
 static Value bi_rgb(Eval *ev, Value *a, int n, const ENode *call) {
   double c[4];
   for (int i = 0; i < 3; i++)
-    if (get_num(ev, a, i, call, &c[i])) return val_err();
-  if (opt_num(ev, a, 3, call, 1, &c[3])) return val_err();
+    if (bi_num(ev, a, i, call, &c[i])) return val_err();
+  if (bi_opt_num(ev, a, 3, call, 1, &c[3])) return val_err();
   return ev_color(ev, val_srgb_to_linear(c[0]), val_srgb_to_linear(c[1]), val_srgb_to_linear(c[2]), c[3]);
 }
 
 /* ---- geometry ------------------------------------------------------------ */
 
-static SceneGeometry *geom_new(Eval *ev, GeomKind kind, const ENode *call) {
+SceneGeometry *bi_geom_new(Eval *ev, GeomKind kind, const ENode *call) {
   SceneGeometry *g = arena_alloc(&ev->scene->arena, sizeof *g);
   g->kind = kind;
   g->loc = call->range;
@@ -614,19 +624,19 @@ static SceneGeometry *geom_new(Eval *ev, GeomKind kind, const ENode *call) {
 }
 
 /* A list of points into scene memory; -1 (reported) on a bad element. */
-static int get_points(Eval *ev, Value *a, int i, const ENode *call, Vec3 **out, int *n) {
+int bi_points(Eval *ev, Value *a, int i, const ENode *call, Vec3 **out, int *n) {
   List *l;
-  if (get_list(ev, a, i, call, &l)) return -1;
+  if (bi_list(ev, a, i, call, &l)) return -1;
   *out = arena_alloc(&ev->scene->arena, (size_t)(l->n ? l->n : 1) * sizeof **out);
   *n = l->n;
   for (int k = 0; k < l->n; k++) {
     if (!val_to_point(&l->v[k], &(*out)[k])) {
-      ev_error(ev, arg_loc(call, i), "`%s` expects points [x, y, z]; element %d is %s %s", bname(call), k,
+      ev_error(ev, bi_arg_loc(call, i), "`%s` expects points [x, y, z]; element %d is %s %s", bi_name(call), k,
                article(&l->v[k]), val_type_name(&l->v[k]));
       return -1;
     }
     if (!vec3_finite((*out)[k])) {   /* a NaN or infinite point would draw a silently wrong image */
-      ev_error(ev, arg_loc(call, i), "`%s`: point %d is not finite (it has a nan or inf coordinate)", bname(call), k);
+      ev_error(ev, bi_arg_loc(call, i), "`%s`: point %d is not finite (it has a nan or inf coordinate)", bi_name(call), k);
       return -1;
     }
   }
@@ -636,12 +646,12 @@ static int get_points(Eval *ev, Value *a, int i, const ENode *call, Vec3 **out, 
 static Value bi_bezier(Eval *ev, Value *a, int n, const ENode *call) {
   Vec3 *p;
   int np;
-  if (get_points(ev, a, 0, call, &p, &np)) return val_err();
+  if (bi_points(ev, a, 0, call, &p, &np)) return val_err();
   if (np != 16) {
-    ev_error(ev, arg_loc(call, 0), "`bezier` needs 16 control points (4 rows of 4); found %d", np);
+    ev_error(ev, bi_arg_loc(call, 0), "`bezier` needs 16 control points (4 rows of 4); found %d", np);
     return val_err();
   }
-  SceneGeometry *g = geom_new(ev, GEOM_PATCHES, call);
+  SceneGeometry *g = bi_geom_new(ev, GEOM_PATCHES, call);
   g->npatches = 1;
   g->patches = arena_alloc(&ev->scene->arena, sizeof *g->patches);
   memcpy(g->patches[0].cp, p, 16 * sizeof(Vec3));
@@ -659,20 +669,20 @@ static Value bi_bezier_patches(Eval *ev, Value *a, int n, const ENode *call) {
   Vec3 *p;
   int np;
   List *idx;
-  if (get_points(ev, a, 0, call, &p, &np) || get_list(ev, a, 1, call, &idx)) return val_err();
-  SceneGeometry *g = geom_new(ev, GEOM_PATCHES, call);
+  if (bi_points(ev, a, 0, call, &p, &np) || bi_list(ev, a, 1, call, &idx)) return val_err();
+  SceneGeometry *g = bi_geom_new(ev, GEOM_PATCHES, call);
   g->npatches = idx->n;
   g->patches = arena_alloc(&ev->scene->arena, (size_t)(idx->n ? idx->n : 1) * sizeof *g->patches);
   for (int i = 0; i < idx->n; i++) {
     const Value *row = &idx->v[i];
     if (row->kind != V_LIST || row->u.l->n != 16) {
-      ev_error(ev, arg_loc(call, 1), "patch %d needs a list of 16 point indices", i);
+      ev_error(ev, bi_arg_loc(call, 1), "patch %d needs a list of 16 point indices", i);
       return val_err();
     }
     for (int k = 0; k < 16; k++) {
       int j;
       if (!get_index(&row->u.l->v[k], np, &j)) {
-        ev_error(ev, arg_loc(call, 1), "patch %d, index %d: not a point index (0 to %d)", i, k, np - 1);
+        ev_error(ev, bi_arg_loc(call, 1), "patch %d, index %d: not a point index (0 to %d)", i, k, np - 1);
         return val_err();
       }
       g->patches[i].cp[k] = p[j];
@@ -682,14 +692,14 @@ static Value bi_bezier_patches(Eval *ev, Value *a, int n, const ENode *call) {
 }
 
 static Value bi_bilinear(Eval *ev, Value *a, int n, const ENode *call) {
-  SceneGeometry *g = geom_new(ev, GEOM_PATCHES, call);
+  SceneGeometry *g = bi_geom_new(ev, GEOM_PATCHES, call);
   g->npatches = 1;
   g->patches = arena_alloc(&ev->scene->arena, sizeof *g->patches);
   g->patches[0].bilinear = 1;
   for (int i = 0; i < 4; i++) {
-    if (get_vec3(ev, a, i, call, &g->patches[0].cp[i])) return val_err();
+    if (bi_vec3(ev, a, i, call, &g->patches[0].cp[i])) return val_err();
     if (!vec3_finite(g->patches[0].cp[i])) {
-      ev_error(ev, arg_loc(call, i), "`bilinear`: corner %d is not finite (it has a nan or inf coordinate)", i);
+      ev_error(ev, bi_arg_loc(call, i), "`bilinear`: corner %d is not finite (it has a nan or inf coordinate)", i);
       return val_err();
     }
   }
@@ -707,21 +717,21 @@ static void resolve_path(const ENode *call, const char *name, char *out, size_t 
 static Value mesh_import(Eval *ev, const Str *path, const ENode *call) {
   char full[4096], err[512] = "";
   resolve_path(call, path->s, full, sizeof full);
-  SceneGeometry *g = geom_new(ev, GEOM_MESH, call);
+  SceneGeometry *g = bi_geom_new(ev, GEOM_MESH, call);
   if (mesh_import_file(full, g, &ev->scene->arena, err, sizeof err) != 0) {
-    ev_error(ev, arg_loc(call, 0), "cannot import `%s`: %s", path->s, err);
+    ev_error(ev, bi_arg_loc(call, 0), "cannot import `%s`: %s", path->s, err);
     return val_err();
   }
   g->loc = call->range;
   return val_ptr(V_GEOM, g);
 }
 
-static int get_faces(Eval *ev, List *faces, int nverts, const ENode *call, SceneGeometry *g) {
+int bi_faces(Eval *ev, List *faces, int nverts, const ENode *call, int arg, SceneGeometry *g) {
   int total = 0;
   for (int i = 0; i < faces->n; i++) {
     const Value *f = &faces->v[i];
     if (f->kind != V_LIST || f->u.l->n < 3) {
-      ev_error(ev, arg_loc(call, 1), "face %d needs a list of 3 or more vertex indices", i);
+      ev_error(ev, bi_arg_loc(call, arg), "face %d needs a list of 3 or more vertex indices", i);
       return -1;
     }
     total += f->u.l->n;
@@ -735,7 +745,7 @@ static int get_faces(Eval *ev, List *faces, int nverts, const ENode *call, Scene
     const List *f = faces->v[i].u.l;
     for (int j = 0; j < f->n; j++)
       if (!get_index(&f->v[j], nverts, &g->face_index[k++])) {
-        ev_error(ev, arg_loc(call, 1), "face %d, index %d: not a vertex index (0 to %d)", i, j, nverts - 1);
+        ev_error(ev, bi_arg_loc(call, arg), "face %d, index %d: not a vertex index (0 to %d)", i, j, nverts - 1);
         return -1;
       }
   }
@@ -745,17 +755,17 @@ static int get_faces(Eval *ev, List *faces, int nverts, const ENode *call, Scene
 
 static Value bi_mesh(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[0].kind == V_STR && a[1].kind == V_UNSET) return mesh_import(ev, a[0].u.s, call);
-  SceneGeometry *g = geom_new(ev, GEOM_MESH, call);
+  SceneGeometry *g = bi_geom_new(ev, GEOM_MESH, call);
   List *faces;
-  if (get_points(ev, a, 0, call, &g->verts, &g->nverts) || get_list(ev, a, 1, call, &faces)) return val_err();
-  if (get_faces(ev, faces, g->nverts, call, g)) return val_err();
+  if (bi_points(ev, a, 0, call, &g->verts, &g->nverts) || bi_list(ev, a, 1, call, &faces)) return val_err();
+  if (bi_faces(ev, faces, g->nverts, call, 1, g)) return val_err();
   return val_ptr(V_GEOM, g);
 }
 
 static int get_creases(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) {
   if (a[1].kind == V_UNSET) return 0;
   List *l;
-  if (get_list(ev, a, 1, call, &l)) return -1;
+  if (bi_list(ev, a, 1, call, &l)) return -1;
   g->ncreases = l->n;
   g->creases = arena_alloc(&ev->scene->arena, (size_t)(l->n ? l->n : 1) * sizeof *g->creases);
   for (int i = 0; i < l->n; i++) {
@@ -763,7 +773,7 @@ static int get_creases(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) 
     if (c->kind != V_LIST || c->u.l->n != 3 || !get_index(&c->u.l->v[0], g->nverts, &g->creases[i].a) ||
         !get_index(&c->u.l->v[1], g->nverts, &g->creases[i].b) || c->u.l->v[2].kind != V_NUM ||
         c->u.l->v[2].u.n < 0) {
-      ev_error(ev, arg_loc(call, 1), "crease %d: expected [vertex, vertex, sharpness >= 0] with vertices 0 to %d", i,
+      ev_error(ev, bi_arg_loc(call, 1), "crease %d: expected [vertex, vertex, sharpness >= 0] with vertices 0 to %d", i,
                g->nverts - 1);
       return -1;
     }
@@ -776,7 +786,7 @@ static int get_creases(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) 
 static int get_corners(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) {
   if (a[2].kind == V_UNSET) return 0;
   List *l;
-  if (get_list(ev, a, 2, call, &l)) return -1;
+  if (bi_list(ev, a, 2, call, &l)) return -1;
   g->ncorners = l->n;
   g->corners = arena_alloc(&ev->scene->arena, (size_t)(l->n ? l->n : 1) * sizeof *g->corners);
   for (int i = 0; i < l->n; i++) {
@@ -787,7 +797,7 @@ static int get_corners(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) 
            (g->corners[i].sharpness = c->u.l->v[1].u.n) >= 0;
     else ok = get_index(c, g->nverts, &g->corners[i].v) && (g->corners[i].sharpness = 10, 1);
     if (!ok) {
-      ev_error(ev, arg_loc(call, 2), "corner %d: expected a vertex index or [vertex, sharpness]", i);
+      ev_error(ev, bi_arg_loc(call, 2), "corner %d: expected a vertex index or [vertex, sharpness]", i);
       return -1;
     }
   }
@@ -797,16 +807,16 @@ static int get_corners(Eval *ev, Value *a, const ENode *call, SceneGeometry *g) 
 /* subdiv(mesh, creases, corners, level = 2, scheme = "catmark") */
 static Value bi_subdiv(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[0].kind != V_GEOM || a[0].u.g->kind != GEOM_MESH) {
-    type_error(ev, call, 0, "a mesh (from mesh())", &a[0]);
+    bi_type_error(ev, call, 0, "a mesh (from mesh())", &a[0]);
     return val_err();
   }
-  SceneGeometry *g = geom_new(ev, GEOM_MESH, call);
+  SceneGeometry *g = bi_geom_new(ev, GEOM_MESH, call);
   *g = *a[0].u.g;
   g->loc = call->range;
   double level;
-  if (opt_num(ev, a, 3, call, 2, &level)) return val_err();
+  if (bi_opt_num(ev, a, 3, call, 2, &level)) return val_err();
   if (level < 1 || level > EVAL_MAX_SUBDIV_LEVEL || level != floor(level)) {
-    ev_error(ev, arg_loc(call, 3), "`subdiv` level must be a whole number from 1 to %d (the limit)",
+    ev_error(ev, bi_arg_loc(call, 3), "`subdiv` level must be a whole number from 1 to %d (the limit)",
              EVAL_MAX_SUBDIV_LEVEL);
     return val_err();
   }
@@ -817,7 +827,7 @@ static Value bi_subdiv(Eval *ev, Value *a, int n, const ENode *call) {
     int k = 0;
     while (k < 3 && (a[4].kind != V_STR || strcmp(a[4].u.s->s, schemes[k]) != 0)) k++;
     if (k == 3) {
-      type_error(ev, call, 4, "\"catmark\", \"loop\" or \"bilinear\"", &a[4]);
+      bi_type_error(ev, call, 4, "\"catmark\", \"loop\" or \"bilinear\"", &a[4]);
       return val_err();
     }
     g->subdiv_scheme = schemes[k];
@@ -825,7 +835,7 @@ static Value bi_subdiv(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[5].kind != V_UNSET) {
     SumiOsdBoundary b;
     if (a[5].kind != V_STR || !subdiv_boundary_parse(a[5].u.s->s, &b)) {
-      type_error(ev, call, 5, "\"edge_and_corner\", \"edge_only\" or \"none\"", &a[5]);
+      bi_type_error(ev, call, 5, "\"edge_and_corner\", \"edge_only\" or \"none\"", &a[5]);
       return val_err();
     }
     g->subdiv_boundary = a[5].u.s->s;
@@ -845,7 +855,7 @@ static Value bi_subdiv(Eval *ev, Value *a, int n, const ENode *call) {
 
 static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
   if (a[0].kind != V_STR) {
-    type_error(ev, call, 0, "a file name", &a[0]);
+    bi_type_error(ev, call, 0, "a file name", &a[0]);
     return val_err();
   }
   char full[4096], err[512] = "";
@@ -854,7 +864,7 @@ static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
   int bad = crease_is_oripa(full) ? crease_read(full, o, &ev->scene->arena, err, sizeof err)
                                   : fold_read(full, o, &ev->scene->arena, err, sizeof err);
   if (bad) {
-    ev_error(ev, arg_loc(call, 0), "%s", err);   /* err names the file */
+    ev_error(ev, bi_arg_loc(call, 0), "%s", err);   /* err names the file */
     return val_err();
   }
   o->fold_file = arena_strndup(&ev->scene->arena, full, strlen(full));
@@ -892,7 +902,7 @@ static Value bi_assert(Eval *ev, Value *a, int n, const ENode *call) {
 
 static Value bi_children(Eval *ev, Value *a, int n, const ENode *call) {
   double i = -1;
-  if (opt_num(ev, a, 0, call, -1, &i)) return val_err();
+  if (bi_opt_num(ev, a, 0, call, -1, &i)) return val_err();
   return ev_children(ev, (int)i, call->range) ? val_err() : val_undef();
 }
 
@@ -917,7 +927,7 @@ static const Builtin builtins[] = {
   {"is_undef", bi_is_undef, "x", 1, 1, 0}, {"is_num", bi_is_num, "x", 1, 1, 0},
   {"is_string", bi_is_string, "x", 1, 1, 0}, {"is_list", bi_is_list, "x", 1, 1, 0},
   {"is_bool", bi_is_bool, "x", 1, 1, 0}, {"is_function", bi_is_function, "x", 1, 1, 0},
-  {"translate", bi_translate, "v", 1, 1, 0}, {"rotate", bi_rotate, "a", 1, 1, 0},
+  {"translate", bi_translate, "v", 1, 1, 0}, {"rotate", bi_rotate, "a,v", 1, 2, 0},
   {"scale", bi_scale, "s", 1, 1, 0}, {"matrix", bi_matrix, "rows", 1, 1, 0},
   {"rgb", bi_rgb, "r,g,b,a", 3, 4, 0},
   {"bezier", bi_bezier, "points", 1, 1, 0}, {"bezier_patches", bi_bezier_patches, "points,patches", 2, 2, 0},
@@ -928,16 +938,30 @@ static const Builtin builtins[] = {
   {"children", bi_children, "index", 0, 1, 1},
 };
 
+static Builtin *all_builtins;
+static int nall_builtins;
+static pthread_once_t all_once = PTHREAD_ONCE_INIT;
+
+static void join_tables(void) {
+  int nm, nb = (int)(sizeof builtins / sizeof builtins[0]);
+  const Builtin *model = builtin_model_table(&nm);
+  all_builtins = xmalloc((size_t)(nb + nm) * sizeof *all_builtins);
+  memcpy(all_builtins, builtins, sizeof builtins);
+  memcpy(all_builtins + nb, model, (size_t)nm * sizeof *model);
+  nall_builtins = nb + nm;
+}
+
 const Builtin *builtin_table(int *n) {
-  *n = (int)(sizeof builtins / sizeof builtins[0]);
-  return builtins;
+  pthread_once(&all_once, join_tables);
+  *n = nall_builtins;
+  return all_builtins;
 }
 
 int builtin_index(const char *name) {
   int n;
-  builtin_table(&n);
+  const Builtin *t = builtin_table(&n);
   for (int i = 0; i < n; i++)
-    if (strcmp(builtins[i].name, name) == 0) return i;
+    if (strcmp(t[i].name, name) == 0) return i;
   return -1;
 }
 

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../geom/shapes.h"
 #include "builtins.h"
 #include "eval_int.h"
 #include "habits.h"
@@ -352,6 +353,11 @@ bad:
 static Value xform_op(Eval *ev, EOp op, Value a, Value b, const ENode *e) {
   Vec3 p;
   if (op == E_MUL && a.kind == V_XFORM && b.kind == V_XFORM) return ev_xform(ev, m4_mul(*a.u.m, *b.u.m));
+  if (op == E_MUL && a.kind == V_XFORM && b.kind == V_GEOM) {   /* the shape moved: translate(v) * cube(1) */
+    SceneGeometry *g = shape_transformed(&ev->scene->arena, b.u.g, *a.u.m);
+    g->loc = e->range;
+    return val_ptr(V_GEOM, g);
+  }
   if (op == E_MUL && a.kind == V_XFORM && val_to_point(&b, &p)) {
     Vec3 q = m4_point(*a.u.m, p);
     List *l = ev_list(ev, 3);
@@ -359,7 +365,8 @@ static Value xform_op(Eval *ev, EOp op, Value a, Value b, const ENode *e) {
     return val_ptr(V_LIST, l);
   }
   if (op == E_MUL)
-    ev_error(ev, e->range, "`*` with a transform needs a transform or a point on the right; found %s", a_type(&b));
+    ev_error(ev, e->range, "`*` with a transform needs a transform, a point or a shape on the right; found %s",
+             a_type(&b));
   else ev_error(ev, e->range, "transforms only compose with `*`; found `%s`", op_text(op));
   return val_err();
 }
@@ -581,9 +588,14 @@ static Value call_closure(Eval *ev, const Closure *f, const ENode *call, Env *ca
 }
 
 /* Builtin arguments: positional in order, named ones matched against the
-** builtin's parameter names; missing ones are V_UNSET. */
-static Value call_builtin(Eval *ev, const Builtin *bi, const ENode *call, Env *env) {
-  int n = bi->max_args < 0 ? call->n : bi->max_args;
+** builtin's parameter names; missing ones are V_UNSET. A call statement's
+** children (kids, the shapes they made) come first: as the arguments
+** themselves (BI_CHILDREN_ARGS) or as a list, the first argument
+** (BI_CHILDREN_FIRST); kids is NULL for a plain call. */
+static Value call_builtin(Eval *ev, const Builtin *bi, const ENode *call, Env *env, const Value *kids, int nkids) {
+  int nk = kids && bi->kind == BI_CHILDREN_ARGS ? nkids : 0;
+  int first = kids && bi->kind == BI_CHILDREN_FIRST;
+  int n = bi->max_args < 0 ? call->n + nk : bi->max_args;
   if (ev->sp + n > ev->stack_cap) {
     limit_error(ev, call->range, "recursion too deep: the evaluator's value stack is full");
     return val_err();
@@ -593,7 +605,13 @@ static Value call_builtin(Eval *ev, const Builtin *bi, const ENode *call, Env *e
   ev->where = call->range;
   ev->sp += n;
   for (int i = 0; i < n; i++) args[i] = val_unset();
-  int pos = 0, given = 0;
+  for (int i = 0; i < nk; i++) args[i] = kids[i];
+  if (first) {
+    List *l = ev_list(ev, nkids);
+    if (nkids) memcpy(l->v, kids, (size_t)nkids * sizeof *kids);
+    args[0] = val_ptr(V_LIST, l);
+  }
+  int pos = nk + first, given = nk + first;
   Value r = val_err();
   char hint[600];
   for (int i = 0; i < call->n; i++) {
@@ -630,7 +648,7 @@ out:
 static Value call_value(Eval *ev, Value f, const ENode *call, Env *env) {
   if (f.kind == V_FUNC) {
     if (f.u.f->def) return call_closure(ev, f.u.f, call, env);
-    if (!f.u.f->bi->is_module) return call_builtin(ev, f.u.f->bi, call, env);
+    if (f.u.f->bi->kind != BI_STATEMENT) return call_builtin(ev, f.u.f->bi, call, env, NULL, 0);
     ev_error(ev, call->range, "`%s` is a statement, not a function: write `%s(...);` on its own", f.u.f->bi->name,
              f.u.f->bi->name);
     return val_err();
@@ -981,18 +999,117 @@ static int call_module(Eval *ev, const Closure *m, const ENode *s, Env *env) {
   return r;
 }
 
+/* ---- statements that make shapes ---------------------------------------- */
+
+/* The name a call statement calls, for messages. */
+static const char *call_name(const ENode *s) { return s->a->what ? s->a->what : "this"; }
+
+/* A statement that makes a shape (`cube(1);`, a CSG block) belongs where
+** objects are made, not inside another block. */
+static int shape_here(Eval *ev, const ENode *s) {
+  if (!ev->col) return 1;
+  ev_error(ev, s->a->range, "`%s` makes an object of its own, so it cannot stand inside `%s`; "
+           "write it outside, or `geometry %s(…);` inside an object", call_name(s), ev->col->kind, call_name(s));
+  return 0;
+}
+
+/* Run a call statement's children with m added to the enclosing transforms
+** (`translate(v) cube(1);`). */
+static int exec_transformed(Eval *ev, Mat4 m, const ENode *s, Env *env) {
+  Mat4 saved = ev->xform;
+  ev->xform = m4_mul(saved, m);
+  int r = ev_body(ev, s->body, env);
+  ev->xform = saved;
+  return r;
+}
+
+/* Run a call statement's children in its own frame and take back the
+** objects they made, in order (a malloc'd copy in *out). */
+static int collect_objects(Eval *ev, const ENode *s, Env *env, SceneObject **out, int *n) {
+  Scene *sc = ev->scene;
+  int mark = sc->nobjects, omark = sc->norigami;
+  Mat4 saved = ev->xform;
+  ev->xform = m4_identity();
+  int r = ev_body(ev, s->body, env);
+  ev->xform = saved;
+  *n = sc->nobjects - mark;
+  *out = xmalloc((size_t)(*n ? *n : 1) * sizeof **out);
+  if (*n) memcpy(*out, sc->objects + mark, (size_t)*n * sizeof **out);
+  sc->nobjects = mark;
+  if (sc->norigami > omark) {
+    ev_error(ev, sc->origami[omark].loc, "`%s` combines shapes; an origami cannot be one of them", call_name(s));
+    sc->norigami = omark;
+    r = -1;
+  }
+  return r;
+}
+
+/* A builtin whose call statement takes the shapes its children make
+** (`difference() { ... }`): each child's geometry moved by its transform,
+** the builtin's result made an object with the first child's style. */
+static int exec_shape_children(Eval *ev, const Builtin *bi, const ENode *s, Env *env) {
+  SceneObject *kids;
+  int nk;
+  if (collect_objects(ev, s, env, &kids, &nk)) { free(kids); return -1; }
+  Value *geoms = xmalloc((size_t)(nk ? nk : 1) * sizeof *geoms);
+  for (int i = 0; i < nk; i++) {
+    SceneGeometry *g = shape_transformed(&ev->scene->arena, kids[i].geometry, kids[i].transform);
+    g->loc = kids[i].loc;
+    g->tess_n = kids[i].tess_kind == TESS_UNIFORM ? kids[i].tess_n : 0;
+    geoms[i] = val_ptr(V_GEOM, g);
+  }
+  Value r = call_builtin(ev, bi, s->a, env, geoms, nk);
+  free(geoms);
+  if (r.kind == V_GEOM) {
+    SceneObject like = nk ? kids[0] : (SceneObject){0};
+    if (nk && like.has_centre) like.centre = m4_point(kids[0].transform, like.centre);
+    schema_emit_object(ev, nk ? &like : NULL, r.u.g, ev->xform, s->range);
+  }
+  free(kids);
+  return r.kind == V_ERR ? -1 : 0;
+}
+
+/* A function's call statement: a shape is drawn (`cube(1);`), a transform
+** moves the children (`translate(v) { ... }`). */
+static int exec_function_call(Eval *ev, Value f, const ENode *s, Env *env) {
+  const Builtin *bi = f.u.f->def ? NULL : f.u.f->bi;
+  if (bi && s->body && (bi->kind == BI_CHILDREN_ARGS || bi->kind == BI_CHILDREN_FIRST))
+    return shape_here(ev, s) ? exec_shape_children(ev, bi, s, env) : -1;
+  Value r = call_value(ev, f, s->a, env);
+  if (r.kind == V_ERR) return -1;
+  if (r.kind == V_XFORM && s->body) return exec_transformed(ev, *r.u.m, s, env);
+  if (r.kind == V_GEOM && !s->body) {
+    if (!shape_here(ev, s)) return -1;
+    schema_emit_object(ev, NULL, r.u.g, ev->xform, s->range);
+    return 0;
+  }
+  if (r.kind == V_GEOM)
+    ev_error(ev, s->body->n ? s->body->items[0]->range : s->a->range,
+             "`%s` makes a shape, which takes no children; end it with `;`", call_name(s));
+  else if (r.kind == V_XFORM)
+    ev_error(ev, s->a->range, "`%s` makes a transform; as a statement it moves what follows it: `%s(…) cube(1);`",
+             call_name(s), call_name(s));
+  else {
+    char hint[600];
+    habit_hint(HABIT_MODULE, s->a->what, NULL, hint, sizeof hint);
+    ev_error(ev, s->a->range, "a statement calls a module, or a function that makes a shape or a transform; "
+             "`%s` gives %s%s", call_name(s), a_type(&r), hint);
+  }
+  return -1;
+}
+
 static int exec_call(Eval *ev, const ENode *s, Env *env) {
   Value f = ev_expr(ev, s->a->a, env);
   if (f.kind == V_ERR) return -1;
   if (f.kind == V_MODULE) return call_module(ev, f.u.f, s, env);
-  if (f.kind == V_FUNC && !f.u.f->def && f.u.f->bi->is_module) {
-    Value r = call_builtin(ev, f.u.f->bi, s->a, env);
+  if (f.kind == V_FUNC && !f.u.f->def && f.u.f->bi->kind == BI_STATEMENT) {
+    Value r = call_builtin(ev, f.u.f->bi, s->a, env, NULL, 0);
     return r.kind == V_ERR ? -1 : 0;
   }
+  if (f.kind == V_FUNC) return exec_function_call(ev, f, s, env);
   char hint[600];
   habit_hint(HABIT_MODULE, s->a->what, NULL, hint, sizeof hint);
-  ev_error(ev, s->a->range, "a statement can only call a module; `%s` is %s%s",
-           s->a->what ? s->a->what : "this", a_type(&f), hint);
+  ev_error(ev, s->a->range, "a statement can only call a module; `%s` is %s%s", call_name(s), a_type(&f), hint);
   return -1;
 }
 
@@ -1099,6 +1216,7 @@ static void init_eval(Eval *ev, Arena *values, Arena *ast_arena, const EvalOptio
   ev->sym_z = ev_intern(ev, "z"); ev->sym_w = ev_intern(ev, "w");
   ev->sym_r = ev_intern(ev, "r"); ev->sym_g = ev_intern(ev, "g");
   ev->sym_b = ev_intern(ev, "b"); ev->sym_a = ev_intern(ev, "a");
+  ev->xform = m4_identity();
 }
 
 static void free_eval(Eval *ev) {

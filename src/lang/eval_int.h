@@ -167,6 +167,8 @@ struct Eval {
   SrcRange where;            /* the list or builtin call allocating, for the memory limit */
   const ChildCtx *children;
   BlockVal *col;             /* the block collecting properties, NULL at top level */
+  Mat4 xform;                /* what the enclosing transform statements do to the objects made
+                                (`translate(v) object { ... }`); identity at the top */
   char *cstack_base;         /* for the C stack guard */
   size_t cstack_size;
   /* interned names */

@@ -13,10 +13,10 @@ typedef struct Habit {
   const char *hint;    /* how sumi spells it */
 } Habit;
 
-#define SHAPE "a shape is an object's geometry: `object { geometry sphere(1); }` (shapes.npr has " \
-              "sphere, cube, cylinder, torus, plane)"
-#define TRANSFORM "a transform is a property of the object it moves: " \
-                  "`object { geometry …; transform translate([1, 0, 0]); }` (compose with `*`)"
+#define SHAPE "a shape is a call: `sphere(1);`, or an object's geometry: `object { geometry sphere(1); style s; }` " \
+              "(builtins: sphere, cube, cylinder, cone, torus, plane, polyhedron)"
+#define TRANSFORM "a transform moves what follows it, `translate([1, 0, 0]) cube(1);`, or is the property of " \
+                  "an object: `object { geometry …; transform translate([1, 0, 0]); }` (compose with `*`)"
 #define LOOK "an object's colour and shading come from its style: `style s { base #ff0000; shade " \
              "phong { } }`, then `style s;` in the object"
 
@@ -38,8 +38,7 @@ static const Habit habits[] = {
   {HABIT_TOKEN, "#macro", "a reusable piece of scene is `module name(args) { … }`"},
   {HABIT_TOKEN, "#if|#for|#while|#switch", "control is `if (c) { … }` and `for (i = [0:9]) { … }`"},
   /* OpenSCAD */
-  {HABIT_MODULE, "sphere|cube|cylinder|torus|polyhedron", SHAPE},
-  {HABIT_MODULE, "translate|rotate|scale|mirror|multmatrix|resize", TRANSFORM},
+  {HABIT_MODULE, "resize", "sumi has no resize: `scale([sx, sy, sz])` the shape"},
   {HABIT_MODULE, "color", LOOK},
   {HABIT_MODULE, "union|difference|intersection|hull|minkowski|render",
    "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
@@ -47,12 +46,8 @@ static const Habit habits[] = {
   {HABIT_MODULE, "linear_extrude|rotate_extrude|circle|square|polygon|projection|offset",
    "sumi has no 2D shapes or extrusions: `mesh(points, faces)` builds a polygon mesh"},
   {HABIT_MODULE, "import", "a mesh file is read by `mesh(\"file.obj\")`, the geometry of an object"},
-  {HABIT_CHILD, "translate|rotate|scale|mirror|multmatrix|resize", TRANSFORM},
-  {HABIT_CHILD, "color", LOOK},
-  {HABIT_CHILD, "union|difference|intersection|hull|minkowski|render|linear_extrude|rotate_extrude",
-   "sumi has no CSG or extrusions, and a call statement takes no child: end it with `;`"},
-  {HABIT_ARGS, "rotate", "`rotate([ax, ay, az])` turns about x, then y, then z, in degrees: "
-                         "OpenSCAD's `rotate(45, [0, 0, 1])` is `rotate([0, 0, 45])`"},
+  {HABIT_ARGS, "rotate", "`rotate([ax, ay, az])` turns about x, then y, then z, in degrees; `rotate(a)` about z; "
+                         "`rotate(a, [x, y, z])` about an axis"},
   {HABIT_ARGS, "translate", "`translate([x, y, z])` takes one vector"},
   {HABIT_ARGS, "scale", "`scale(s)` or `scale([sx, sy, sz])` takes one number or vector"},
   {HABIT_TOKEN, "$fn|$fa|$fs", "an object's triangles are `tessellate N;` or `tessellate adaptive(pixels);`"},

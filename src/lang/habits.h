@@ -1,7 +1,7 @@
 /*
 ** Hints for POV-Ray and OpenSCAD habits: what a user of either writes that
-** sumi spells another way (`sphere { radius 1; }`, `translate([1, 0, 0])
-** object { … }`, `rotate(45, [0, 0, 1])`, `base red;`, `#declare`, `$fn`),
+** sumi spells another way (`sphere { radius 1; }`, `color("red") cube(1);`,
+** `scale 2;` in an object, `base red;`, `#declare`, `$fn`),
 ** and how sumi spells it. One table (habits.c); the lexer, the parser, the
 ** evaluator and the schema checker ask it where each reports an error, and
 ** append the hint to the message.
@@ -15,9 +15,8 @@
 typedef enum {
   HABIT_BLOCK,     /* an unknown block kind: `sphere { radius 1; }` */
   HABIT_PROPERTY,  /* an unknown property: `scale 2;` in an object */
-  HABIT_MODULE,    /* a statement calling what is no module: `text("hi");`, `cube(1);` */
-  HABIT_CHILD,     /* a call followed by a statement: `translate([1, 0, 0]) object { … }` */
-  HABIT_ARGS,      /* a builtin given arguments it does not take: `rotate(45, [0, 0, 1])` */
+  HABIT_MODULE,    /* a statement calling what is no module: `color("red") cube(1);` */
+  HABIT_ARGS,      /* a builtin given arguments it does not take: `translate(1, 0, 0)` */
   HABIT_NAME,      /* an unknown name: `red` (see lib_dir below) */
   HABIT_TOKEN      /* something sumi has no token for: `<1, 2, 3>`, `#declare`, `$fn`, `function` */
 } HabitPlace;

@@ -743,18 +743,15 @@ static AstNode *parse_block(Parser *p) {
   return n;
 }
 
-/* call_stmt := postfix ( ';' | braced )      (starts with IDENT '(') */
+/* call_stmt := postfix ( ';' | body )      (starts with IDENT '('; the body
+** is the call's children, as OpenSCAD's `translate(v) cube(1);`) */
 static AstNode *parse_call_stmt(Parser *p) {
   AstNode *n = node(p, AST_CALL_STMT);
   n->a = parse_postfix(p);
-  char hint[600];
-  if (!p->panic && check(p, TK_LBRACE)) {
+  TokenKind k = p->cur.kind;
+  if (!p->panic && (k == TK_LBRACE || k == TK_IDENT || k == TK_FOR || k == TK_IF)) {
     n->has_body = 1;
-    parse_braced(p, &n->list2, "");
-  } else if (!p->panic && check(p, TK_IDENT) && n->a->kind == AST_CALL && n->a->a &&
-             n->a->a->kind == AST_IDENT &&
-             habit_hint(HABIT_CHILD, n->a->a->name, NULL, hint, sizeof hint)) {
-    error_at(p, p->cur.range, "expected `;` after a call, found %s%s", found(p), hint);
+    parse_body(p, &n->list2);
   } else end_statement(p, "after a call");
   end_node(p, n);
   return n;

@@ -1439,9 +1439,30 @@ static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
   o.tess_px = SCENE_DEFAULT_TESS_PX;
   o.loc = b->loc;
   if (check_props(c, s, b, &o) || no_subs(c, b)) return -1;
+  o.transform = m4_mul(c->ev->xform, o.transform);   /* inside `translate(v) object { ... }` */
   sc->objects = grow(c, sc->objects, sc->nobjects, sizeof *sc->objects);
   sc->objects[sc->nobjects++] = o;
   return 0;
+}
+
+void schema_emit_object(Eval *ev, const SceneObject *like, SceneGeometry *g, Mat4 transform, SrcRange loc) {
+  Ctx c;
+  memset(&c, 0, sizeof c);
+  c.ev = ev;
+  Scene *sc = ev->scene;
+  SceneObject o;
+  memset(&o, 0, sizeof o);
+  if (like) o = *like;
+  else {
+    o.style = -1;
+    o.tess_kind = TESS_ADAPTIVE;
+    o.tess_px = SCENE_DEFAULT_TESS_PX;
+  }
+  o.geometry = g;
+  o.transform = transform;
+  o.loc = loc;
+  sc->objects = grow(&c, sc->objects, sc->nobjects, sizeof *sc->objects);
+  sc->objects[sc->nobjects++] = o;
 }
 
 /* After an origami block: the folded state and relations must fit. */
@@ -1488,6 +1509,7 @@ static int emit_origami(Ctx *c, const Schema *s, const BlockVal *b) {
   }
   bad |= check_props(c, s, b, &o) != 0;
   if (bad || check_origami(c, &o, b)) return -1;
+  o.transform = m4_mul(c->ev->xform, o.transform);
   sc->origami = grow(c, sc->origami, sc->norigami, sizeof *sc->origami);
   sc->origami[sc->norigami++] = o;
   return 0;

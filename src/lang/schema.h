@@ -25,6 +25,11 @@
 #define SCHEMA_MAX_CURVE 64
 
 int schema_emit(Eval *ev, BlockVal *b);
+/* An object made by a statement (`cube(1);`, `difference() { ... }`):
+** geometry g placed by transform, with like's style, name and settings
+** (a CSG result keeps its first operand's), or the defaults when like is
+** NULL. */
+void schema_emit_object(Eval *ev, const SceneObject *like, SceneGeometry *g, Mat4 transform, SrcRange loc);
 /* The checks that need the whole scene, once every block is in: the
 ** lights a shade ink style names (a light may come after the style). */
 void schema_finish(Eval *ev);

@@ -327,11 +327,25 @@ typedef struct SceneGeometry {
   int *face_index;
   Vec2 *face_uv;              /* per corner (parallel to face_index): an imported mesh's own
                                  texture coordinates, or NULL */
+  Vec3 *face_nrm;             /* per corner: unit shading normals a CSG result keeps from its
+                                 operands' surfaces, or NULL (normals from the faces) */
+  int *face_group;            /* per face: the source face it was cut from (a CSG result's
+                                 triangles of one operand polygon or patch), or NULL */
+  /* A 2D shape (circle, square, polygon, text and their booleans) when
+  ** ncontours > 0: closed contours in the xy-plane, outer boundaries
+  ** counter-clockwise and holes clockwise. The mesh above is their
+  ** triangulation facing +z, so the shape draws flat; the extrusions read
+  ** the contours. */
+  int ncontours;
+  int *contour_start;         /* ncontours + 1 offsets into contour_pts */
+  Vec2 *contour_pts;
+  int tess_n;                 /* a CSG operand's `tessellate N` (0: by tolerance) */
   /* subdivision (through OpenSubdiv) when subdiv_level > 0 */
   int subdiv_level;
   const char *subdiv_scheme;  /* "catmark", "loop", "bilinear" */
   const char *subdiv_boundary;/* "edge_and_corner" (NULL), "edge_only", "none" */
-  int ncreases;
+  int ncreases;               /* subdivision creases; on a mesh drawn as it is, edges `lines`
+                                 draws as creases (a CSG result's intersection curves) */
   struct { int a, b; double sharpness; } *creases;
   int ncorners;
   struct { int v; double sharpness; } *corners;
