@@ -54,6 +54,7 @@ static int shading_jumps(const RenderObject *o, int t, int k, int g) {
 
 static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv) {
   const Mesh *m = o->mesh;
+  a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
   a->sv = xmalloc(((size_t)m->nverts + 1) * sizeof *a->sv);
   for (int v = 0; v < m->nverts; v++) {
@@ -192,6 +193,11 @@ static int planes_meet(const AaObject *a, int ta, const float ca[2], const AaObj
 
 /* Whether triangles f and g of o share an edge the walk crosses (the
 ** surface goes on smoothly from one to the other). */
+/* Is a sample of object obj (-1: background) transparent in the tile pass? */
+static int clear_sample(const AaFrame *af, int32_t obj) {
+  return obj < 0 ? af->f->background.a == 0 : af->objects[obj].clear;
+}
+
 static int adjacent(const AaObject *o, int f, int g) {
   return o->adj[f][0] == g || o->adj[f][1] == g || o->adj[f][2] == g;
 }
@@ -369,6 +375,7 @@ int aa_tile(const AaFrame *af, const RastTarget *rt, const AaSteps *st, int x0, 
           int k = k8 + (__builtin_ctzll(bits) >> 3);
           /* triangles of one surface meeting smoothly at one level: the most common case, here */
           if (o0[k] == o1[k] && k0[k] == k1[k] && adjacent(&af->objects[o0[k]], f0[k], f1[k])) continue;
+          if (clear_sample(af, o0[k]) && clear_sample(af, o1[k])) continue;   /* both transparent */
           int x = px0 + k, ip = i0 + k, iq = ip + step;
           /* whether P and Q are in the tile: only the apron side of a pair can be out */
           int inside[2] = {ax ? x >= x0 : y >= y0, ax ? x + 1 < x1 : y + 1 < y1};

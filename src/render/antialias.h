@@ -44,6 +44,8 @@ typedef struct AaObject {
                               vertex is outside the planes the rasterizer clips against) */
   int32_t (*adj)[3];       /* per triangle, edge k (corners k, k + 1): the triangle across
                               it, or -1 where the surface ends or its shading jumps */
+  int clear;               /* its samples are transparent (shade ink: the canvas paints it
+                              later), as the background is: between such, nothing to blend */
 } AaObject;
 
 typedef struct AaFrame {

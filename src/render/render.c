@@ -1296,11 +1296,11 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   if (canvas) f.background = (Color){0, 0, 0, 0};
   /* RGB over an opaque background (smaller, and PNG encodes it faster);
   ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
-  ** they finish each row (not when the canvas comes under it), unless
-  ** origami sheets (composited in float) come over it */
+  ** they finish each row, unless origami sheets or the canvas (both in
+  ** float) come over it */
   int nc = f.background.a >= 1 ? 3 : 4;
   double t0 = stats_now();
-  if (o->out8 && s->norigami == 0) {
+  if (o->out8 && s->norigami == 0 && !canvas) {
     /* the tile pass writes every byte: no clearing, and each page is first
     ** touched by the worker filling it (clearing and faulting the pages in
     ** here cost ~3 ms at 1080p, alone) */
