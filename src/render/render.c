@@ -965,12 +965,11 @@ static void shade_tile_aa(const TileJob *job, const Tile *tl, Worker *w) {
   AaSteps steps = {w->tkey, &job->view};
   int nb = aa_tile(&job->aa, rt, &steps, tl->x0, tl->y0, tl->x1, tl->y1, w->blends);
   aa_apply(w->blends, nb, w->tcol, nc, N == 1, &w->scratch);
-  if (N == 1) {
+  if (N == 1) {   /* the samples are the pixels: into the float image, or encoded from the tile */
     for (int y = tl->y0; y < tl->y1; y++) {
       const float *c = w->tcol + (size_t)((y - rt->oy) * rt->stride + (tl->x0 - rt->ox)) * nc;
-      float *o = row_out(job, tl->x0, y, w->prow);
-      memcpy(o, c, (size_t)n * nc * sizeof *o);
-      put_row(job, tl->x0, y, n, o);
+      if (img->data) memcpy(row_out(job, tl->x0, y, w->prow), c, (size_t)n * nc * sizeof *c);
+      else put_row(job, tl->x0, y, n, c);
     }
     return;
   }
