@@ -249,10 +249,13 @@ static int boundary(const AaFrame *af, const RastTarget *rt, int ip, int iq, con
 
 /* Term t's smooth value at sample i of rt (shade_step_value). */
 static float step_value(const AaFrame *af, const RastTarget *rt, const AaSteps *st, int i, int t) {
+  size_t m = (size_t)i * SHADE_STEP_TERMS + (size_t)t;
+  if (st->seen[m] == st->stamp) return st->memo[m];
   const RenderObject *o = &af->f->objects[rt->object[i]];
   float p[3], n[3], v[3];
   shade_surface_at(st->view, o, rt->face[i], rt->bary[i][0], rt->bary[i][1], p, n, v);
-  return shade_step_value(af->f, o->style, t, p, n, v);
+  st->seen[m] = st->stamp;
+  return st->memo[m] = shade_step_value(af->f, o->style, t, p, n, v);
 }
 
 /* How term t's smooth value changes one step across the axis at sample

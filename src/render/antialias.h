@@ -72,6 +72,11 @@ void aa_frame_free(AaFrame *af);
 typedef struct AaSteps {
   const uint32_t *key;
   const ShadeView *view;
+  /* the values worked out so far this tile (a sample's term is asked for
+  ** by up to six pairs): value t of sample i at memo[i * SHADE_STEP_TERMS
+  ** + t], valid where seen[] there is stamp (the caller's, one a tile) */
+  float *memo;
+  uint32_t *seen, stamp;
 } AaSteps;
 
 /* The blends of the samples of [x0, x1) x [y0, y1) (a tile) of rt, whose

@@ -742,6 +742,8 @@ typedef struct Worker {
   ** the planes; the tile's blends and the colours aa_apply works out */
   float *tcol;
   uint32_t *tkey;              /* the shading's steps at them (ShadeRow.step_key) */
+  float *memo;                 /* their values as worked out (AaSteps) */
+  uint32_t *seen, stamp;
   AaBlend *blends;
   AaScratch scratch;
   double raster_s, shade_s, write_s;
@@ -962,7 +964,7 @@ static void shade_tile_aa(const TileJob *job, const Tile *tl, Worker *w) {
     shade_row(job, rt, i, rt->x0, y, wn, w->tcol + (size_t)i * nc, nc, bgc, &w->row);
   }
   w->row.step_key = NULL;
-  AaSteps steps = {w->tkey, &job->view};
+  AaSteps steps = {w->tkey, &job->view, w->memo, w->seen, ++w->stamp};
   int nb = aa_tile(&job->aa, rt, &steps, tl->x0, tl->y0, tl->x1, tl->y1, w->blends);
   aa_apply(w->blends, nb, w->tcol, nc, N == 1, &w->scratch);
   if (N == 1) {   /* the samples are the pixels: into the float image, or encoded from the tile */
@@ -1132,6 +1134,8 @@ static void run_workers(TileJob *job, int nthreads) {
     if (apron) {
       ws[i].tcol = xmalloc(n * 4 * sizeof *ws[i].tcol);
       ws[i].tkey = xmalloc(n * sizeof *ws[i].tkey);
+      ws[i].memo = xmalloc(n * SHADE_STEP_TERMS * sizeof *ws[i].memo);
+      ws[i].seen = xcalloc(n * SHADE_STEP_TERMS, sizeof *ws[i].seen);   /* stamps start at 1 */
       ws[i].blends = xmalloc(4 * n * sizeof *ws[i].blends);
       ws[i].scratch.sum = xcalloc(n, sizeof *ws[i].scratch.sum);
       ws[i].scratch.acc = xcalloc(4 * n, sizeof *ws[i].scratch.acc);
@@ -1165,6 +1169,8 @@ static void run_workers(TileJob *job, int nthreads) {
     free(ws[i].prow);
     free(ws[i].tcol);
     free(ws[i].tkey);
+    free(ws[i].memo);
+    free(ws[i].seen);
     free(ws[i].blends);
     free(ws[i].scratch.sum);
     free(ws[i].scratch.acc);
