@@ -98,10 +98,26 @@ static void build_levels(NoiseTile *t) {
 static void set_mean(NoiseTile *t) {
   int s = stride_of(t);
   size_t n = (size_t)t->w[0] * t->h[0];
-  double sum[4] = {0, 0, 0, 0};
-  for (size_t i = 0; i < n; i++)
-    for (int c = 0; c < s; c++) sum[c] += t->texel[0][i * s + c];
-  for (int c = 0; c < s; c++) t->mean[c] = (float)(sum[c] / (double)(n ? n : 1));
+  for (int c = 0; c < s; c++) {
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) sum += t->texel[0][i * s + c];
+    t->mean[c] = (float)(sum / (double)(n ? n : 1));
+  }
+}
+
+/* One row's texels q0 .. q1 - 1 in one cell, whose corner gradients give
+** the coefficients c (ax, ay, bx, by, cx, cy, ex, ey: ay .. ey scaled by
+** the row's place y in the cell), fv the row's fade: adds amp times the
+** noise to out. */
+static void add_cell_run(float *restrict out, const float *restrict frac, const float *restrict fd, int q0,
+                         int q1, const float c[8], float fv, float amp) {
+  float ax = c[0], ay = c[1], bx = c[2], by = c[3], cx = c[4], cy = c[5], ex = c[6], ey = c[7];
+  for (int q = q0; q < q1; q++) {
+    float x = frac[q];
+    float d00 = ax * x + ay, d10 = bx * (x - 1) + by, d01 = cx * x + cy, d11 = ex * (x - 1) + ey;
+    float a = d00 + fd[q] * (d10 - d00), b = d01 + fd[q] * (d11 - d01);
+    out[q] += amp * ((a + fv * (b - a)) * 1.41421356f);
+  }
 }
 
 /* Add amp times octave k of n over a size x size grid of texel centres
@@ -111,33 +127,29 @@ static void set_mean(NoiseTile *t) {
 static void add_octave(const NoiseFbm *n, int k, int size, float amp, float *v) {
   int p = n->cells << k;
   const float *grad = n->grad[k];
-  int *cell = xmalloc((size_t)size * sizeof *cell);
+  int *cell = xmalloc((size_t)size * sizeof *cell), *run = xmalloc((size_t)(size + 1) * sizeof *run);
   float *frac = xmalloc((size_t)size * sizeof *frac), *fd = xmalloc((size_t)size * sizeof *fd);
+  int runs = 0;   /* run[r] .. run[r + 1] - 1: the texels of one cell along a row */
   for (int i = 0; i < size; i++) {
     float X = (i + 0.5f) / size * p, f = floorf(X);
     cell[i] = (int)f % p;
     frac[i] = X - f;
     fd[i] = fade(frac[i]);
+    if (i == 0 || cell[i] != cell[i - 1]) run[runs++] = i;
   }
+  run[runs] = size;
   for (int j = 0; j < size; j++) {
     int j0 = cell[j], j1 = j0 + 1 == p ? 0 : j0 + 1;
     float y = frac[j], fv = fd[j];
-    float *out = v + (size_t)j * size;
-    for (int i = 0, e; i < size; i = e) {   /* a run of texels in one cell */
-      for (e = i + 1; e < size && cell[e] == cell[i]; e++) {}
-      int i0 = cell[i], i1 = i0 + 1 == p ? 0 : i0 + 1;
+    for (int r = 0; r < runs; r++) {
+      int i0 = cell[run[r]], i1 = i0 + 1 == p ? 0 : i0 + 1;
       const float *g00 = grad + 2 * (j0 * p + i0), *g10 = grad + 2 * (j0 * p + i1);
       const float *g01 = grad + 2 * (j1 * p + i0), *g11 = grad + 2 * (j1 * p + i1);
-      float ax = g00[0], ay = g00[1] * y, bx = g10[0], by = g10[1] * y;
-      float cx = g01[0], cy = g01[1] * (y - 1), ex = g11[0], ey = g11[1] * (y - 1);
-      for (int q = i; q < e; q++) {
-        float x = frac[q];
-        float d00 = ax * x + ay, d10 = bx * (x - 1) + by, d01 = cx * x + cy, d11 = ex * (x - 1) + ey;
-        float a = d00 + fd[q] * (d10 - d00), b = d01 + fd[q] * (d11 - d01);
-        out[q] += amp * ((a + fv * (b - a)) * 1.41421356f);
-      }
+      float c[8] = {g00[0], g00[1] * y, g10[0], g10[1] * y, g01[0], g01[1] * (y - 1), g11[0], g11[1] * (y - 1)};
+      add_cell_run(v + (size_t)j * size, frac, fd, run[r], run[r + 1], c, fv, amp);
     }
   }
+  free(run);
   free(cell);
   free(frac);
   free(fd);
@@ -158,7 +170,10 @@ void noise_tile_bake(NoiseTile *t, const NoiseFbm *n, int size) {
   double sum = 0;
   for (size_t i = 0; i < count; i++) sum += v[i] /= total;
   float mean = (float)(sum / (double)count), dev = 0;
-  for (size_t i = 0; i < count; i++) dev = fmaxf(dev, fabsf(v[i] - mean));
+  for (size_t i = 0; i < count; i++) {
+    float d = fabsf(v[i] - mean);
+    dev = d > dev ? d : dev;   /* fmaxf would be a call a texel */
+  }
   float k = dev > 0 ? 0.5f / dev : 0;   /* the widest deviation reaches 0 or 1 */
   for (size_t i = 0; i < count; i++) v[i] = 0.5f + (v[i] - mean) * k;
   set_mean(t);
@@ -233,12 +248,18 @@ void noise_tile_row(const NoiseTile *t, int level, float u0, float du, float v, 
   float b = y - (float)j0;
   const float *r0 = t->texel[level] + (size_t)j0 * w, *r1 = t->texel[level] + (size_t)j1 * w;
   int pow2 = (w & (w - 1)) == 0, mask = w - 1;
+  int at = -1;                    /* the texel whose values and steps t0 .. d1 hold */
+  float t0 = 0, d0 = 0, t1 = 0, d1 = 0;
   for (int k = 0; k < n; k++) {
     float x = x0 + (float)k * dx;   /* >= 0: its int part is its floor */
     int i = (int)x;
     float a = x - (float)i;
-    int i0 = pow2 ? i & mask : i % w, i1 = pow2 ? (i + 1) & mask : (i + 1) % w;
-    float top = r0[i0] + a * (r0[i1] - r0[i0]), bottom = r1[i0] + a * (r1[i1] - r1[i0]);
+    if (i != at) {                /* a magnified tile: several samples a texel */
+      int i0 = pow2 ? i & mask : i % w, i1 = pow2 ? (i + 1) & mask : (i + 1) % w;
+      t0 = r0[i0], d0 = r0[i1] - r0[i0], t1 = r1[i0], d1 = r1[i1] - r1[i0];
+      at = i;
+    }
+    float top = t0 + a * d0, bottom = t1 + a * d1;
     out[k] = top + b * (bottom - top);
   }
 }
