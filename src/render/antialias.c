@@ -27,10 +27,13 @@ static int corner_of(const int t[3], int v) {
 
 /* Whether the shading of o jumps across edge k of triangle t into
 ** triangle g: their corner normals differ at a shared vertex, or (lit
-** flat shading) their planes do. */
+** flat shading) their planes do. Bokashi's colour follows the point's
+** place alone (its normal is the direction from the centre), never the
+** mesh's normals. */
 static int shading_jumps(const RenderObject *o, int t, int k, int g) {
   const Mesh *m = o->mesh;
   if (o->style->kind == SHADE_FLAT && !o->style->lit) return 0;   /* one colour, facets or not */
+  if (o->style->kind == SHADE_BOKASHI) return 0;
   if (o->style->kind == SHADE_FLAT) {
     float n[2][3];
     for (int i = 0; i < 2; i++) {
