@@ -68,6 +68,33 @@ static void draw_fibre(Fibres *fb, Rng *r, float scale) {
   }
 }
 
+/* ---- enlarging ----------------------------------------------------------------- */
+
+/* The s x s tile src enlarged to t x t into dst, bilinearly between texel
+** centres, wrapping at the edges (so it still tiles). */
+static void enlarge(const float *src, int s, float *dst, int t) {
+  int *i0 = xmalloc((size_t)t * sizeof *i0), *i1 = xmalloc((size_t)t * sizeof *i1);
+  float *w = xmalloc((size_t)t * sizeof *w);
+  for (int x = 0; x < t; x++) {   /* the same for rows and columns */
+    float u = ((float)x + 0.5f) * s / t - 0.5f;
+    int a = (int)floorf(u);
+    w[x] = u - (float)a;
+    i0[x] = ((a % s) + s) % s;
+    i1[x] = (i0[x] + 1) % s;
+  }
+  for (int y = 0; y < t; y++) {
+    const float *r0 = src + (size_t)i0[y] * s, *r1 = src + (size_t)i1[y] * s;
+    for (int x = 0; x < t; x++) {
+      float top = r0[i0[x]] + (r0[i1[x]] - r0[i0[x]]) * w[x];
+      float bottom = r1[i0[x]] + (r1[i1[x]] - r1[i0[x]]) * w[x];
+      dst[(size_t)y * t + x] = top + (bottom - top) * w[y];
+    }
+  }
+  free(i0);
+  free(i1);
+  free(w);
+}
+
 /* ---- sheets ---------------------------------------------------------------------- */
 
 static void paper_alloc(Paper *p, int w, int h) {
@@ -122,16 +149,23 @@ static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
   }
   float tint[3] = {display_from_linear(sh->color.r), display_from_linear(sh->color.g),
                    display_from_linear(sh->color.b)};
-  NoiseFbm pulp_fbm, tooth_fbm;   /* thick and thin pulp over the tile; a tooth of two-pixel cells */
+  /* thick and thin pulp over the tile, and a tooth of two-pixel cells: each
+  ** baked at the scale of its cells (a quarter and a half of the tile's
+  ** side) and enlarged bilinearly, wrapping */
+  NoiseFbm pulp_fbm, tooth_fbm;
   NoiseTile pulp_tile, tooth_tile;
+  int tq = t / 4 > 1 ? t / 4 : 1, th = t / 2 > 1 ? t / 2 : 1;
   noise_fbm_init(&pulp_fbm, 6, 3, 0.5f, (uint64_t)sh->seed * 2 + 1);
-  noise_fbm_init(&tooth_fbm, t / 2, 1, 0.5f, (uint64_t)sh->seed * 2 + 2);
-  noise_tile_bake(&pulp_tile, &pulp_fbm, t);
-  noise_tile_bake(&tooth_tile, &tooth_fbm, t);
+  noise_fbm_init(&tooth_fbm, th, 1, 0.5f, (uint64_t)sh->seed * 2 + 2);
+  noise_tile_bake(&pulp_tile, &pulp_fbm, tq);
+  noise_tile_bake(&tooth_tile, &tooth_fbm, th);
+  float *pulp_plane = xmalloc(n * sizeof(float)), *tooth_plane = xmalloc(n * sizeof(float));
+  enlarge(pulp_tile.texel[0], tq, pulp_plane, t);
+  enlarge(tooth_tile.texel[0], th, tooth_plane, t);
   for (int y = 0; y < t; y++)
     for (int x = 0; x < t; x++) {
       size_t i = (size_t)y * t + x;
-      float pulp = pulp_tile.texel[0][i] - 0.5f, tooth = tooth_tile.texel[0][i] - 0.5f;
+      float pulp = pulp_plane[i] - 0.5f, tooth = tooth_plane[i] - 0.5f;
       float light = fb.light[i], dark = fb.dark[i];
       float k = 1 + 0.035f * pulp + 0.02f * tooth + 0.045f * light - 0.05f * dark;
       for (int c = 0; c < 3; c++) {
@@ -142,6 +176,8 @@ static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
     }
   free(fb.light);
   free(fb.dark);
+  free(pulp_plane);
+  free(tooth_plane);
   noise_tile_free(&pulp_tile);
   noise_tile_free(&tooth_tile);
   noise_fbm_free(&pulp_fbm);
