@@ -21,7 +21,10 @@ LDLIBS  := -lxml2 -lpotrace -lpng16 -lcjson -losdCPU -lassimp -ldl -lm -pthread 
 
 ifeq ($(SANITIZE),1)
 BUILD   := build/san
-SAN     := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+# float-cast-overflow is not in gcc's `undefined` group: a double beyond
+# the range of the integer it becomes (a range's element count) is UB too.
+SAN     := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
+           -fno-sanitize-recover=undefined,float-cast-overflow
 CFLAGS  += $(SAN)
 CXXFLAGS += $(SAN)
 LDFLAGS += $(SAN)
@@ -104,15 +107,57 @@ update-snapshots: all
 update-golden: all $(TOOLS)
 	@BUILD=$(BUILD) UPDATE_GOLDEN=1 sh tests/run.sh
 
+# libFuzzer targets (tests/fuzz/fuzz_*.c): the parser, the evaluator, FOLD
+# import, mesh import and image reading, each over the whole core built by
+# clang under ASan and UBSan, float-cast-overflow included. Each starts
+# from a seed corpus of the tests' own files and runs FUZZ_SECONDS
+# (`make fuzz` runs them all, one after the other; FUZZ_TARGETS picks some).
 FUZZ_SECONDS ?= 60
-FUZZ_C := src/lang/lex.c src/lang/parse.c src/lang/ast.c src/lang/diag.c src/lang/habits.c src/base/mem.c
-fuzz:
-	@mkdir -p build/fuzz/corpus
-	clang -std=c11 -D_DEFAULT_SOURCE -g -O1 -fsanitize=fuzzer,address,undefined \
-	  -o build/fuzz/fuzz_parse tests/fuzz/fuzz_parse.c $(FUZZ_C) -lm -lcjson
-	cp tests/parse/*.npr tests/errors/*.npr build/fuzz/corpus/ 2>/dev/null || true
-	build/fuzz/fuzz_parse -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=10 \
-	  -rss_limit_mb=4096 build/fuzz/corpus
+FUZZ_DIR     := build/fuzz
+FUZZ_TARGETS ?= parse eval fold mesh image
+FUZZ_SAN     := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all
+FUZZ_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -g -O1 -pthread $(FUZZ_SAN) -fsanitize=fuzzer-no-link
+FUZZ_OBJ     := $(CORE_C:%.c=$(FUZZ_DIR)/%.o) $(FUZZ_DIR)/src/geom/osd_bridge.o
+FUZZ_BIN     := $(FUZZ_TARGETS:%=$(FUZZ_DIR)/fuzz_%)
+# Seeds: the text a target reads, from the tests (meshes also from
+# assimp-testmodels' OBJ folder when installed).
+FUZZ_SEEDS_parse := tests/parse/*.npr tests/errors/*.npr
+FUZZ_SEEDS_eval  := tests/eval/*.npr tests/errors/*.npr tests/render/*.npr examples/*.npr
+FUZZ_SEEDS_fold  := tests/data/fold/*.fold
+FUZZ_SEEDS_mesh  := tests/render/*.obj $(wildcard /usr/share/assimp/models/OBJ/*.obj)
+FUZZ_SEEDS_image := tests/data/image/*
+
+$(FUZZ_DIR)/%.o: %.c
+	@mkdir -p $(dir $@)
+	clang $(FUZZ_CFLAGS) -c -o $@ $<
+
+$(FUZZ_DIR)/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	clang++ -std=c++17 -g -O1 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c -o $@ $<
+
+$(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_OBJ)
+	clang $(FUZZ_CFLAGS) -c -o $@.o $<
+	clang++ $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $@.o $(FUZZ_OBJ) $(LDLIBS)
+
+.SECONDARY: $(FUZZ_OBJ)
+
+# image reading loads the OpenImageIO bridge from beside the binary
+$(FUZZ_DIR)/libsumi_oiio.so: $(OIIO_LIB)
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+fuzz: $(FUZZ_BIN) $(FUZZ_DIR)/libsumi_oiio.so
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_DIR)/corpus_$$t; \
+	  case $$t in parse) seeds="$(FUZZ_SEEDS_parse)";; eval) seeds="$(FUZZ_SEEDS_eval)";; \
+	    fold) seeds="$(FUZZ_SEEDS_fold)";; mesh) seeds="$(FUZZ_SEEDS_mesh)";; image) seeds="$(FUZZ_SEEDS_image)";; esac; \
+	  for f in $$seeds; do [ -f "$$f" ] && cp "$$f" $(FUZZ_DIR)/corpus_$$t/; done; \
+	  echo "fuzz $$t: $(FUZZ_SECONDS) s"; \
+	  (cd $(FUZZ_DIR) && LSAN_OPTIONS=suppressions=$(CURDIR)/tests/fuzz/lsan.supp ./fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=20 \
+	    -rss_limit_mb=3072 -print_final_stats=1 corpus_$$t) >$(FUZZ_DIR)/fuzz_$$t.log 2>&1 \
+	    || { tail -60 $(FUZZ_DIR)/fuzz_$$t.log; exit 1; }; \
+	  grep -E "stat::number_of_executed_units|Done" $(FUZZ_DIR)/fuzz_$$t.log | tr '\n' ' '; echo; \
+	done
 
 bench-parse: deps all
 	sh bench/parse.sh $(BUILD)/sumi
@@ -161,7 +206,7 @@ help:
 	@echo "make example    deps + build + render examples/teapot_toon.npr"
 	@echo "make test       every test suite (SANITIZE=1: under ASan+UBSan)"
 	@echo "make update-snapshots / update-golden   rewrite expectations"
-	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer over lexer and parser"
+	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer: parser, evaluator, FOLD, mesh, image (FUZZ_TARGETS=...)"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"

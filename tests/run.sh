@@ -4,6 +4,7 @@
 #   tests/parse/x.npr   -> x.ast  exact text of `sumi parse x.npr --ast`
 #   tests/errors/x.npr  -> x.err  "exit: N", then stdout and stderr of `sumi check x.npr`
 #   tests/eval/x.npr    -> x.out  "exit: N", then stdout and stderr of `sumi eval x.npr --scene`
+#   tests/hostile/x.npr -> x.err  as errors, under a time and memory cap (below)
 #   tests/render/x.npr  -> x.png  golden image, compared by imgcmp with a tolerance
 #                       -> x.svg  (when present) exact text of `sumi render x.npr -o x.svg`
 #                       with "// svg: TOLERANCE", x.svg drawn by rsvg-convert against x.png
@@ -66,6 +67,41 @@ check_text() {
 check_text parse ast "$SUMI" parse --ast
 check_text errors err "$SUMI" check
 check_text eval out "$SUMI" eval --scene
+
+# Hostile inputs: tests/hostile/x.npr -> x.err, as the errors suite, but
+# each run under a wall-time cap (`// timeout: S`, default 20 s) and, outside
+# sanitizer builds (ASan reserves terabytes of address space), an
+# address-space cap (`// memory: MB`, default 4096), so a runaway fails its
+# test instead of stalling the suite. In a case's lines `@OUT@` is a fresh
+# scratch folder (printed back as @OUT@), `// setup: CMD` runs in it first,
+# and `// command: render` picks the subcommand (default check).
+hostile_meta() { head -8 "$1" | sed -n "s|^// $2: *||p" | head -1; }
+cases hostile
+for f in "$ROOT"/tests/hostile/*.npr; do
+  [ -e "$f" ] || continue
+  name=$(basename "$f" .npr)
+  exp="$ROOT/tests/hostile/$name.err"
+  got="$OUT/hostile.$name.err"
+  scratch="$OUT/hostile.$name.d"
+  rm -rf "$scratch"; mkdir -p "$scratch"
+  secs=$(hostile_meta "$f" timeout); mb=$(hostile_meta "$f" memory)
+  setup=$(hostile_meta "$f" setup | sed "s|@OUT@|$scratch|g")
+  cmd=$(hostile_meta "$f" command); cmd=${cmd:-check}
+  args=$(hostile_meta "$f" args | sed "s|@OUT@|$scratch|g")
+  vcap=""
+  case "$BUILD" in *san*) ;; *) vcap="ulimit -v $(( ${mb:-4096} * 1024 ));" ;; esac
+  [ -n "$setup" ] && (cd "$scratch" && sh -c "$setup") >/dev/null 2>&1
+  # shellcheck disable=SC2086
+  (cd "$ROOT/tests/hostile" && sh -c "$vcap exec timeout -k 2 ${secs:-20} \"\$@\"" sh \
+     "$SUMI" $cmd "$name.npr" $args >"$got.stdout" 2>"$got.stderr"
+   echo "exit: $?" >"$got"; cat "$got.stdout" "$got.stderr" | sed "s|$scratch|@OUT@|g" >>"$got")
+  if [ -n "$UPDATE" ]; then cp "$got" "$exp"; fi
+  if [ -f "$exp" ] && cmp -s "$got" "$exp"; then pass
+  else
+    fail "hostile/$name"
+    if [ -f "$exp" ]; then diff -u "$exp" "$got" | head -20; else echo "  (no $name.err: run make update-snapshots)"; fi
+  fi
+done
 
 # Render snapshots.
 cases render

@@ -402,6 +402,7 @@ static int read_model(FoldCtx *c, SceneOrigami *o, Arena *arena) {
     o->folded = folded;
   }
   if (folded || !frame_get(c, 0, "faceOrders")) return read_orders(c, o, k >= 0 ? k : 0, folded ? folded : coords, arena);
+  if (o->nfaces == 0) return fail(c, "faceOrders: without faces_vertices its face numbers name no faces");
   Vec3 *state = fold_from_paper(o);                          /* orders without a folded frame */
   int ok = read_orders(c, o, 0, state, arena);
   free(state);

@@ -436,3 +436,8 @@ int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *e
                      size_t errlen) {
   return mesh_import_file_limited(path, out, arena, err, errlen, MESH_IMPORT_TIMEOUT);
 }
+
+int mesh_import_file_in_process(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                                size_t errlen) {
+  return import_file(path, out, arena, err, errlen) ? 0 : 1;
+}

@@ -47,4 +47,9 @@ int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *e
 int mesh_import_file_limited(const char *path, SceneGeometry *out, Arena *arena, char *err,
                              size_t errlen, int timeout_s);
 
+/* The same read in this process, without the child: for the fuzzer, which
+** must see the reader's coverage. */
+int mesh_import_file_in_process(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                                size_t errlen);
+
 #endif

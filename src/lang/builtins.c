@@ -321,12 +321,13 @@ static Value bi_slice(Eval *ev, Value *a, int n, const ENode *call) {
   double s, e;
   if (bi_list(ev, a, 0, call, &x) || bi_num(ev, a, 1, call, &s) || bi_opt_num(ev, a, 2, call, x->n, &e))
     return val_err();
-  long long i0 = (long long)floor(s), i1 = (long long)floor(e);
-  if (i0 < 0) i0 += x->n;
-  if (i1 < 0) i1 += x->n;
-  if (i0 < 0) i0 = 0;
-  if (i1 > x->n) i1 = x->n;
-  int m = i1 > i0 ? (int)(i1 - i0) : 0;
+  double d0 = floor(s), d1 = floor(e);   /* clamped as doubles: 1e30 fits no integer */
+  if (d0 < 0) d0 += x->n;
+  if (d1 < 0) d1 += x->n;
+  if (!(d0 > 0)) d0 = 0;
+  if (!(d1 < x->n)) d1 = isnan(d1) ? 0 : x->n;
+  int i0 = d0 < x->n ? (int)d0 : x->n, i1 = d1 > 0 ? (int)d1 : 0;
+  int m = i1 > i0 ? i1 - i0 : 0;
   List *l = ev_list(ev, m);
   if (m) memcpy(l->v, x->v + i0, (size_t)m * sizeof(Value));
   return val_ptr(V_LIST, l);
@@ -343,7 +344,7 @@ static Value bi_range(Eval *ev, Value *a, int n, const ENode *call) {
   }
   double count = ceil((hi - lo) / step);
   if (!(count > 0)) count = 0;
-  if (ev_list_limit(ev, (long long)count, call->range)) return val_err();
+  if (ev_list_limit(ev, count, call->range)) return val_err();
   List *l = ev_list(ev, (int)count);
   for (int i = 0; i < l->n; i++) l->v[i] = val_num(lo + i * step);
   return val_ptr(V_LIST, l);
@@ -370,7 +371,14 @@ typedef struct Search {
   unsigned limit;       /* matches wanted for one value; 0: all */
   int col;
   int *hit, nhit, cap;  /* the indices found for the value being searched */
+  const ENode *call;
+  int failed;           /* the iteration limit was hit */
 } Search;
+
+/* Count a scan of j table entries (search's inner loop) against the limit. */
+static void search_steps(Search *s, int j) {
+  if (!s->failed && ev_steps(s->ev, j, s->call->range, "`search`")) s->failed = 1;
+}
 
 static Value hits_list(Search *s) {
   List *l = ev_list(s->ev, s->nhit);
@@ -401,7 +409,7 @@ static uint32_t *code_points(const char *t, int *n) {
 
 /* The first code point of v as str() writes it (0 when empty). */
 static uint32_t first_code_point(const Value *v) {
-  StrBuf b = {0};
+  StrBuf b = {.max = 8};   /* one character is at most 4 bytes */
   val_format(&b, v, 1);
   uint32_t c = 0;
   if (b.s && b.len && !utf8_decode((const unsigned char *)b.s, (const unsigned char *)b.s + b.len, &c)) c = 0;
@@ -411,18 +419,22 @@ static uint32_t first_code_point(const Value *v) {
 
 static void search_value(Search *s, const Value *want) {
   s->nhit = 0;
-  for (int j = 0; s->table && j < s->n && more(s); j++) {
+  int j;
+  for (j = 0; s->table && j < s->n && more(s); j++) {
     const Value *e = &s->table[j];
     if ((s->col == 0 && val_equal(want, e)) ||
         (e->kind == V_LIST && s->col < e->u.l->n && val_equal(want, &e->u.l->v[s->col])))
       add_hit(s, j);
   }
+  search_steps(s, j);
 }
 
 static void search_char(Search *s, uint32_t c) {
   s->nhit = 0;
-  for (int j = 0; j < s->n && more(s); j++)
+  int j;
+  for (j = 0; j < s->n && more(s); j++)
     if (c == (s->chars ? s->chars[j] : first_code_point(&s->table[j].u.l->v[s->col]))) add_hit(s, j);
+  search_steps(s, j);
 }
 
 static Value search_string(Search *s, const char *find) {
@@ -432,7 +444,7 @@ static Value search_string(Search *s, const char *find) {
   uint32_t *f = code_points(find, &nf);
   List *out = ev_list(s->ev, nf);
   int k = 0;
-  for (int i = 0; i < nf; i++) {
+  for (int i = 0; i < nf && !s->failed; i++) {
     search_char(s, f[i]);
     if (s->limit != 1) out->v[k++] = hits_list(s);
     else if (s->nhit) out->v[k++] = val_num(s->hit[0]);
@@ -450,7 +462,9 @@ static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
     return val_err();
   }
   /* OpenSCAD takes the count as an unsigned integer: a negative one asks for all */
-  Search s = {ev, NULL, NULL, 0, num < 0 || num >= UINT_MAX ? 0 : (unsigned)num, (int)col, NULL, 0, 0};
+  Search s = {ev, NULL, NULL, 0, num < 0 || num >= UINT_MAX ? 0 : (unsigned)num, (int)col, NULL, 0, 0, call, 0};
+  double chars_bytes = 4.0 * ((a[0].kind == V_STR ? a[0].u.s->len : 0) + (a[1].kind == V_STR ? a[1].u.s->len : 0));
+  if (ev_buffer_limit(ev, chars_bytes, call->range, "`search`")) return val_err();
   uint32_t *chars = NULL;
   if (a[1].kind == V_LIST) { s.table = a[1].u.l->v; s.n = a[1].u.l->n; }
   if (a[1].kind == V_STR) s.chars = chars = code_points(a[1].u.s->s, &s.n);
@@ -459,7 +473,7 @@ static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
   else if (a[0].kind == V_NUM) { search_value(&s, &a[0]); r = hits_list(&s); }
   else if (a[0].kind == V_LIST) {
     List *out = ev_list(ev, a[0].u.l->n);
-    for (int i = 0; i < out->n; i++) {
+    for (int i = 0; i < out->n && !s.failed; i++) {
       search_value(&s, &a[0].u.l->v[i]);
       out->v[i] = s.limit == 1 && s.nhit == 1 ? val_num(s.hit[0]) : hits_list(&s);
     }
@@ -467,12 +481,20 @@ static Value bi_search(Eval *ev, Value *a, int n, const ENode *call) {
   }
   free(chars);
   free(s.hit);
-  return r;
+  return s.failed ? val_err() : r;
+}
+
+/* "`str`": how a builtin's limit message names the call. */
+static const char *bquoted(const ENode *call) {
+  static char buf[80];
+  snprintf(buf, sizeof buf, "`%s`", bi_name(call));
+  return buf;
 }
 
 static Value bi_str(Eval *ev, Value *a, int n, const ENode *call) {
-  StrBuf b = {0};
-  for (int i = 0; i < n; i++) val_format(&b, &a[i], 1);
+  StrBuf b = ev_text_buf(ev);
+  for (int i = 0; i < n && !b.over; i++) val_format(&b, &a[i], 1);
+  if (ev_text_over(ev, &b, call->range, bquoted(call))) { free(b.s); return val_err(); }
   Value r = ev_str(ev, b.s ? b.s : "", (int)b.len);
   free(b.s);
   return r;
@@ -502,6 +524,11 @@ static int put_code(Eval *ev, const ENode *call, int i, const Value *v, char *bu
 static Value bi_chr(Eval *ev, Value *a, int n, const ENode *call) {
   size_t m = 0;
   for (int i = 0; i < n; i++) m += a[i].kind == V_LIST ? (size_t)a[i].u.l->n : 1;
+  if (m * 4 > ev_text_room(ev)) {
+    StrBuf over = {.max = ev_text_room(ev), .over = 1};
+    ev_text_over(ev, &over, call->range, bquoted(call));
+    return val_err();
+  }
   char *buf = xmalloc(m * 4 + 1);
   int len = 0, bad = 0;
   for (int i = 0; i < n && !bad; i++) {
@@ -532,8 +559,12 @@ static Value bi_rands(Eval *ev, Value *a, int n, const ENode *call) {
   if (bi_num(ev, a, 0, call, &lo) || bi_num(ev, a, 1, call, &hi) || bi_num(ev, a, 2, call, &cnt) ||
       bi_opt_num(ev, a, 3, call, 0, &seed))
     return val_err();
-  if (cnt < 0 || ev_list_limit(ev, (long long)cnt, call->range)) {
-    if (cnt < 0) ev_error(ev, bi_arg_loc(call, 2), "`rands` needs a count of 0 or more");
+  if (!(cnt >= 0) || ev_list_limit(ev, cnt, call->range)) {
+    if (!(cnt >= 0)) ev_error(ev, bi_arg_loc(call, 2), "`rands` needs a count of 0 or more");
+    return val_err();
+  }
+  if (!(fabs(seed) < 0x1p63)) {
+    ev_error(ev, bi_arg_loc(call, 3), "`rands` needs a seed between -2^63 and 2^63");
     return val_err();
   }
   Rng r;
@@ -874,7 +905,7 @@ static Value bi_fold_file(Eval *ev, Value *a, int n, const ENode *call) {
 /* ---- statements: echo, assert, children ---------------------------------- */
 
 static Value bi_echo(Eval *ev, Value *a, int n, const ENode *call) {
-  StrBuf b = {0};
+  StrBuf b = ev_text_buf(ev);
   sb_puts(&b, "ECHO: ");
   for (int i = 0; i < n; i++) {
     if (i) sb_puts(&b, ", ");
@@ -882,6 +913,7 @@ static Value bi_echo(Eval *ev, Value *a, int n, const ENode *call) {
     val_format(&b, &a[i], 0);
   }
   sb_putc(&b, '\n');
+  if (ev_text_over(ev, &b, call->range, bquoted(call))) { free(b.s); return val_err(); }
   fflush(stdout);
   fputs(b.s, stderr);
   free(b.s);
@@ -892,9 +924,9 @@ static Value bi_assert(Eval *ev, Value *a, int n, const ENode *call) {
   if (val_truthy(&a[0])) return val_undef();
   if (a[1].kind == V_UNSET) ev_error(ev, call->range, "assertion failed");
   else {
-    StrBuf b = {0};
+    StrBuf b = {.max = 4096};   /* a message, not a dump: longer ones end in ... */
     val_format(&b, &a[1], 1);
-    ev_error(ev, call->range, "assertion failed: %s", b.s ? b.s : "");
+    ev_error(ev, call->range, "assertion failed: %s%s", b.s ? b.s : "", b.over ? "..." : "");
     free(b.s);
   }
   return val_err();
@@ -977,4 +1009,11 @@ int builtin_param(const Builtin *bi, const char *name) {
     p = comma + 1;
   }
   return -1;
+}
+
+int builtin_constant_time(const Builtin *bi) {
+  static const BuiltinFn o1[] = {bi_len, bi_is_undef, bi_is_num, bi_is_string, bi_is_list, bi_is_bool, bi_is_function};
+  for (size_t i = 0; i < sizeof o1 / sizeof o1[0]; i++)
+    if (bi->fn == o1[i]) return 1;
+  return 0;
 }

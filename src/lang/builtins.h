@@ -35,6 +35,9 @@ const Builtin *builtin_table(int *n);
 const Builtin *builtin_model_table(int *n);
 int builtin_index(const char *name);          /* -1 when not a builtin */
 int builtin_param(const Builtin *bi, const char *name);   /* -1 when unknown */
+/* Nonzero for a builtin that reads no element of its arguments (len, is_*):
+** the others' work counts toward the iteration limit. */
+int builtin_constant_time(const Builtin *bi);
 
 /* Argument helpers the builtin files share. Each reports its error at
 ** argument i of call (the call itself when the argument is missing) and

@@ -43,7 +43,7 @@ void *ev_alloc(Eval *ev, size_t n) {
   ev->mem_used += (long long)n;
   if (ev->mem_used > ev->opt->max_memory && !ev->stop)
     limit_error(ev, ev->where,
-                "the program used more than %lld MB of memory (the limit; raise it with --max-memory MB)",
+                "the program used more than %lld MB of memory (the limit; raise it with --max-memory-mb N)",
                 ev->opt->max_memory >> 20);
   return arena_alloc(ev->arena, n);
 }
@@ -169,9 +169,49 @@ static inline int count_step(Eval *ev, SrcRange at, const char *what) {
   return 1;
 }
 
-int ev_list_limit(Eval *ev, long long n, SrcRange at) {
-  if (n <= ev->opt->max_list) return 0;
+int ev_steps(Eval *ev, double n, SrcRange at, const char *what) {
+  if (LIKELY(n <= (double)(ev->opt->max_iterations - ev->iterations))) { ev->iterations += (long long)n; return 0; }
+  limit_error(ev, at, "%s ran past the limit of %lld loop iterations and calls (its work on each element counts; "
+              "raise it with --max-iterations N)", what, ev->opt->max_iterations);
+  return 1;
+}
+
+int ev_list_limit(Eval *ev, double n, SrcRange at) {
+  if (n <= (double)ev->opt->max_list) return 0;
   limit_error(ev, at, "a list grew past the limit of %lld elements (raise it with --max-list N)", ev->opt->max_list);
+  return 1;
+}
+
+StrBuf ev_text_buf(Eval *ev) {
+  StrBuf b = {.max = ev_text_room(ev), .max_work = ev->opt->max_iterations - ev->iterations};
+  if (b.max_work < 1) b.max_work = 1;
+  return b;
+}
+
+size_t ev_text_room(Eval *ev) {
+  long long left = ev->opt->max_memory - ev->mem_used;
+  if (left < 2) return 1;
+  return left / 2 < EVAL_MAX_STRING ? (size_t)(left / 2) : EVAL_MAX_STRING;
+}
+
+static void memory_error(Eval *ev, SrcRange at, const char *what, const char *made) {
+  limit_error(ev, at, "%s made %s past the memory limit of %lld MB (raise it with --max-memory-mb N)", what, made,
+              ev->opt->max_memory >> 20);
+}
+
+int ev_buffer_limit(Eval *ev, double n, SrcRange at, const char *what) {
+  if (n <= (double)(ev->opt->max_memory - ev->mem_used)) return 0;
+  memory_error(ev, at, what, "a buffer");
+  return 1;
+}
+
+int ev_text_over(Eval *ev, const StrBuf *b, SrcRange at, const char *what) {
+  if (b->work > 0) ev->iterations += b->work < ev->opt->max_iterations ? b->work : ev->opt->max_iterations;
+  if (!b->over) return 0;
+  if (b->over == SB_OVER_WORK) ev_steps(ev, (double)ev->opt->max_iterations + 1, at, what);
+  else if (b->max >= EVAL_MAX_STRING)
+    limit_error(ev, at, "%s made a string longer than %d bytes (the longest a string can be)", what, EVAL_MAX_STRING);
+  else memory_error(ev, at, what, "a string");
   return 1;
 }
 
@@ -213,7 +253,7 @@ static int scratch_push(Eval *ev, Value v, long long base, SrcRange at) {
     long long cap = ev->capscratch ? ev->capscratch * 2 : 1024;
     ev->mem_used += (cap - ev->capscratch) * (long long)sizeof(Value);
     if (ev->mem_used > ev->opt->max_memory) {
-      limit_error(ev, at, "the program used more than %lld MB of memory (the limit; raise it with --max-memory MB)",
+      limit_error(ev, at, "the program used more than %lld MB of memory (the limit; raise it with --max-memory-mb N)",
                   ev->opt->max_memory >> 20);
       return -1;
     }
@@ -269,13 +309,30 @@ static Value string_chars(Eval *ev, const Str *s) {
   return val_ptr(V_LIST, l);
 }
 
-static int iter_init(Eval *ev, Value v, Iter *it, SrcRange at) {
+/* The element count of a range, checked before it becomes an integer: a
+** loop (what names it) over more elements than the iterations left, or
+** an `each` (what NULL) past the list limit, is that limit's error now,
+** not a count cast beyond long long or a loop that runs for hours. */
+static int range_count(Eval *ev, const Range *r, long long *n, SrcRange at, const char *what) {
+  double count = val_range_count(r);
+  long long room = what ? ev->opt->max_iterations - ev->iterations : ev->opt->max_list;
+  if (count <= (double)room) { *n = (long long)count; return 0; }
+  if (!what) return ev_list_limit(ev, room + 1, at) ? -1 : 0;
+  char num[32] = "no end";
+  if (!isinf(count)) val_format_number(num, sizeof num, count);
+  limit_error(ev, at, "this range has %s%s: %s over it would run past the limit of %lld loop iterations and "
+              "calls (raise it with --max-iterations N)", num, isinf(count) ? "" : " elements", what,
+              ev->opt->max_iterations);
+  return -1;
+}
+
+static int iter_init(Eval *ev, Value v, Iter *it, SrcRange at, const char *what) {
   if (v.kind == V_ERR) return -1;
   if (v.kind == V_STR) v = string_chars(ev, v.u.s);
   it->src = v;
   switch (v.kind) {
   case V_LIST: it->n = v.u.l->n; return 0;
-  case V_RANGE: it->n = (long long)val_range_count(v.u.r); return 0;
+  case V_RANGE: return range_count(ev, v.u.r, &it->n, at, what);
   case V_NUM: case V_BOOL: it->n = 1; return 0;
   default:
     ev_error(ev, at, "a loop needs a list, a range or a string; found %s", a_type(&v));
@@ -587,6 +644,18 @@ static Value call_closure(Eval *ev, const Closure *f, const ENode *call, Env *ca
   return r;
 }
 
+/* A builtin's work on its arguments counts toward the iteration limit:
+** one step per element of each list and per 16 bytes of each string. */
+static int builtin_steps(Eval *ev, const Builtin *bi, const Value *args, int n, const ENode *call) {
+  double w = 0;
+  for (int i = 0; i < n; i++)
+    w += args[i].kind == V_LIST ? args[i].u.l->n : args[i].kind == V_STR ? args[i].u.s->len / 16 : 0;
+  if (w < 1) return 0;
+  char what[80];
+  snprintf(what, sizeof what, "`%s`", bi->name);
+  return ev_steps(ev, w, call->range, what);
+}
+
 /* Builtin arguments: positional in order, named ones matched against the
 ** builtin's parameter names; missing ones are V_UNSET. A call statement's
 ** children (kids, the shapes they made) come first: as the arguments
@@ -639,6 +708,7 @@ static Value call_builtin(Eval *ev, const Builtin *bi, const ENode *call, Env *e
                bi->min_args == 1 ? "" : "s", given);
       goto out;
     }
+  if (!builtin_constant_time(bi) && builtin_steps(ev, bi, args, n, call)) goto out;
   r = bi->fn(ev, args, n, call);
 out:
   ev->sp = mark;
@@ -674,7 +744,7 @@ static Env *env_clone(Eval *ev, const Env *src, int n) {
 static int comp_for(Eval *ev, const ENode *e, Env *fe, int k, long long base) {
   if (k == e->n) return comp_emit(ev, e->a, e->scope->heap ? env_clone(ev, fe, e->scope->n) : fe, base);
   Iter it;
-  if (iter_init(ev, ev_expr(ev, e->kids[k], fe), &it, e->kids[k]->range)) return -1;
+  if (iter_init(ev, ev_expr(ev, e->kids[k], fe), &it, e->kids[k]->range, "a list comprehension")) return -1;
   for (long long i = 0; i < it.n; i++) {
     if (count_step(ev, e->range, "this list comprehension")) return -1;
     fe->v[k] = iter_get(&it, i);
@@ -688,7 +758,7 @@ static int comp_each(Eval *ev, const ENode *e, Env *env, long long base) {
   if (v.kind == V_ERR) return -1;
   if (v.kind != V_LIST && v.kind != V_RANGE && v.kind != V_STR) return scratch_push(ev, v, base, e->range);
   Iter it;
-  if (iter_init(ev, v, &it, e->range)) return -1;
+  if (iter_init(ev, v, &it, e->range, NULL)) return -1;
   for (long long i = 0; i < it.n; i++)
     if (scratch_push(ev, iter_get(&it, i), base, e->range)) return -1;
   return 0;
@@ -756,6 +826,11 @@ static Value range_value(Eval *ev, const ENode *e, Env *env) {
       return val_err();
     }
   }
+  for (int i = 0; i < 3; i++)
+    if (isnan(parts[i]->u.n)) {
+      ev_error(ev, e->range, "a range needs numbers; its %s is nan", i == 0 ? "start" : i == 1 ? "step" : "end");
+      return val_err();
+    }
   if (s.u.n == 0) {
     ev_error(ev, e->range, "a range's step cannot be 0");
     return val_err();
@@ -846,6 +921,9 @@ Value ev_expr(Eval *ev, const ENode *e, Env *env) {
     a = ev_expr(ev, e->a, env);
     b = ev_expr(ev, e->b, env);
     if (a.kind == V_ERR || b.kind == V_ERR) return val_err();
+    if (a.kind == V_LIST && b.kind == V_LIST && a.u.l->n == b.u.l->n &&
+        ev_steps(ev, a.u.l->n, e->range, "comparing lists with `==`"))
+      return val_err();
     return val_bool(val_equal(&a, &b) == (e->op == E_EQ));
   case E_AND: case E_OR:
     a = ev_expr(ev, e->a, env);
@@ -958,7 +1036,7 @@ static int exec_for(Eval *ev, const ENode *e, Env *fe, int k, Env *env) {
     return r;
   }
   Iter it;
-  if (iter_init(ev, ev_expr(ev, e->kids[k], fe), &it, e->kids[k]->range)) return -1;
+  if (iter_init(ev, ev_expr(ev, e->kids[k], fe), &it, e->kids[k]->range, "a `for` loop")) return -1;
   int r = 0;
   for (long long i = 0; i < it.n; i++) {
     if (count_step(ev, e->range, "this `for` loop")) return -1;

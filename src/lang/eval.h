@@ -18,7 +18,8 @@
 #define EVAL_MAX_RECURSION 10000          /* nested user function/module calls (--max-recursion) */
 #define EVAL_MAX_ITERATIONS 200000000LL   /* loop iterations and calls, in all (--max-iterations) */
 #define EVAL_MAX_LIST 50000000            /* elements of one list (--max-list) */
-#define EVAL_MAX_MEMORY (4096LL << 20)    /* bytes of values, in all (--max-memory, in MB) */
+#define EVAL_MAX_MEMORY (4096LL << 20)    /* bytes of values, in all (--max-memory-mb) */
+#define EVAL_MAX_STRING 0x7ffffffe        /* bytes of one string: its length is an int */
 
 typedef struct EvalOptions {
   const char **defines;       /* "name=expr" from -D, in order */

@@ -193,7 +193,23 @@ Value ev_str(Eval *ev, const char *s, int len);
 List *ev_list(Eval *ev, int n);
 Value ev_color(Eval *ev, double r, double g, double b, double a);
 Value ev_xform(Eval *ev, Mat4 m);
-int ev_list_limit(Eval *ev, long long n, SrcRange at);
+int ev_list_limit(Eval *ev, double n, SrcRange at);
+/* Count n steps of a builtin's inner loop (what: "`search`") against the
+** iteration limit; nonzero (reported at `at`) when past it. */
+int ev_steps(Eval *ev, double n, SrcRange at, const char *what);
+/* Bytes a string or buffer made now may take: half the memory left (the
+** buffer and the string it becomes), at most EVAL_MAX_STRING. */
+size_t ev_text_room(Eval *ev);
+/* Nonzero when n more bytes of a builtin's own buffer would pass the
+** memory limit; then reported at `at` as what's (e.g. "`chr`"). */
+int ev_buffer_limit(Eval *ev, double n, SrcRange at, const char *what);
+/* An empty buffer for a builtin's text: at most ev_text_room bytes and
+** the iterations left of work. */
+StrBuf ev_text_buf(Eval *ev);
+/* Count b's work toward the iteration limit; nonzero when b went past its
+** room (b->over): reported at `at` as the iteration, memory or
+** string-length limit, naming what (e.g. "`str`"). */
+int ev_text_over(Eval *ev, const StrBuf *b, SrcRange at, const char *what);
 Value ev_expr(Eval *ev, const ENode *e, Env *env);
 int ev_body(Eval *ev, const Body *b, Env *env);
 

@@ -76,17 +76,24 @@ int val_equal(const Value *a, const Value *b) {
 
 /* ---- text ----------------------------------------------------------- */
 
-void sb_putc(StrBuf *b, char c) {
-  if (b->len + 2 > b->cap) {
-    b->cap = b->cap ? b->cap * 2 : 64;
-    b->s = xrealloc(b->s, b->cap);
+void sb_putn(StrBuf *b, const char *s, size_t n) {
+  if (b->over) return;
+  if (b->max && n > b->max - b->len) { b->over = SB_OVER_BYTES; return; }
+  if (b->len + n + 1 > b->cap) {
+    size_t cap = b->cap ? b->cap : 64;
+    while (cap < b->len + n + 1) cap *= 2;
+    if (b->max && cap > b->max + 1) cap = b->max + 1;   /* never more than max asks */
+    b->s = xrealloc(b->s, b->cap = cap);
   }
-  b->s[b->len++] = c;
+  memcpy(b->s + b->len, s, n);
+  b->len += n;
   b->s[b->len] = 0;
 }
 
+void sb_putc(StrBuf *b, char c) { sb_putn(b, &c, 1); }
+
 void sb_puts(StrBuf *b, const char *s) {
-  while (*s) sb_putc(b, *s++);
+  sb_putn(b, s, strlen(s));
 }
 
 void sb_printf(StrBuf *b, const char *fmt, ...) {
@@ -131,7 +138,7 @@ void val_format_number(char *buf, size_t n, double x) {
 
 static void format_string(StrBuf *b, const Str *s) {
   sb_putc(b, '"');
-  for (int i = 0; i < s->len; i++) {
+  for (int i = 0; i < s->len && !b->over; i++) {
     char c = s->s[i];
     if (c == '"' || c == '\\') { sb_putc(b, '\\'); sb_putc(b, c); }
     else if (c == '\n') sb_puts(b, "\\n");
@@ -167,17 +174,22 @@ static void format_matrix(StrBuf *b, const Mat4 *m) {
 
 void val_format(StrBuf *b, const Value *v, int raw) {
   char num[32];
+  if (b->max_work && ++b->work > b->max_work) b->over = SB_OVER_WORK;
+  if (b->over) return;
   switch ((ValueKind)v->kind) {
   case V_UNDEF: case V_UNSET: case V_ERR: sb_puts(b, "undef"); break;
   case V_BOOL: sb_puts(b, v->u.n ? "true" : "false"); break;
   case V_NUM: val_format_number(num, sizeof num, v->u.n); sb_puts(b, num); break;
   case V_STR:
-    if (raw) for (int i = 0; i < v->u.s->len; i++) sb_putc(b, v->u.s->s[i]);
+    if (raw) {
+      b->work += v->u.s->len / 16;
+      sb_putn(b, v->u.s->s, (size_t)v->u.s->len);
+    }
     else format_string(b, v->u.s);
     break;
   case V_LIST:
     sb_putc(b, '[');
-    for (int i = 0; i < v->u.l->n; i++) {
+    for (int i = 0; i < v->u.l->n && !b->over; i++) {
       if (i) sb_puts(b, ", ");
       val_format(b, &v->u.l->v[i], 0);
     }
@@ -205,8 +217,9 @@ void val_format(StrBuf *b, const Value *v, int raw) {
     sb_puts(b, v->u.sym->name);
     if (v->u.sym->args) {
       Value l = val_ptr(V_LIST, v->u.sym->args);
-      StrBuf t = {0};
+      StrBuf t = {.max = b->max};
       val_format(&t, &l, 0);
+      if (t.over) { b->over = 1; free(t.s); break; }
       t.s[t.len - 1] = ')';
       t.s[0] = '(';
       sb_puts(b, t.s);

@@ -73,8 +73,15 @@ double val_range_count(const Range *r);
 ** raw (str() prints top-level strings raw). */
 void val_print(FILE *out, const Value *v, int raw);
 /* The same into a growing malloc'd buffer. */
-typedef struct StrBuf { char *s; size_t len, cap; } StrBuf;
+/* Text built a piece at a time. With max set, it holds at most max bytes;
+** with max_work set, val_format visits at most max_work values (a raw
+** string costs one a 16 bytes), counted in work. What would go past is
+** dropped and over set (SB_OVER_BYTES or SB_OVER_WORK), and val_format
+** stops early, so a huge value costs no more than the limits. */
+enum { SB_OVER_BYTES = 1, SB_OVER_WORK = 2 };
+typedef struct StrBuf { char *s; size_t len, cap, max; long long work, max_work; int over; } StrBuf;
 void sb_putc(StrBuf *b, char c);
+void sb_putn(StrBuf *b, const char *s, size_t n);
 void sb_puts(StrBuf *b, const char *s);
 void sb_printf(StrBuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void val_format(StrBuf *b, const Value *v, int raw);
