@@ -116,7 +116,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_DIR     := build/fuzz
 FUZZ_TARGETS ?= parse eval fold mesh image
 FUZZ_SAN     := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all
-FUZZ_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -g -O1 -pthread $(FUZZ_SAN) -fsanitize=fuzzer-no-link
+FUZZ_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -I/usr/include/libxml2 -g -O1 -pthread $(FUZZ_SAN) -fsanitize=fuzzer-no-link
 FUZZ_OBJ     := $(CORE_C:%.c=$(FUZZ_DIR)/%.o) $(FUZZ_DIR)/src/geom/osd_bridge.o
 FUZZ_BIN     := $(FUZZ_TARGETS:%=$(FUZZ_DIR)/fuzz_%)
 # Seeds: the text a target reads, from the tests (meshes also from

@@ -82,7 +82,7 @@ for f in "$ROOT"/tests/hostile/*.npr; do
   name=$(basename "$f" .npr)
   exp="$ROOT/tests/hostile/$name.err"
   got="$OUT/hostile.$name.err"
-  scratch="$OUT/hostile.$name.d"
+  scratch="$OUT/hostile.$name.dir"
   rm -rf "$scratch"; mkdir -p "$scratch"
   secs=$(hostile_meta "$f" timeout); mb=$(hostile_meta "$f" memory)
   setup=$(hostile_meta "$f" setup | sed "s|@OUT@|$scratch|g")
