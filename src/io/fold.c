@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "../geom/origami.h"
+#include "infile.h"
 
 /* Frames inherit through at most this many parents (a cycle stops here). */
 #define FOLD_MAX_INHERIT 64
@@ -419,6 +420,8 @@ static int line_of(const char *text, const char *at) {
 static int read_file(const char *path, SceneOrigami *out, Arena *arena, char *err, size_t errlen) {
   FoldCtx c = {.path = path, .err = err, .errlen = errlen};
   if (errlen) err[0] = 0;
+  char why[256];
+  if (!infile_check(path, INFILE_MAX_FOLD, "a FOLD file", why, sizeof why)) return fail(&c, "cannot read: %s", why);
   FILE *fp = fopen(path, "rb");
   if (!fp) return fail(&c, "cannot open: %s", strerror(errno));
   size_t cap = 1 << 16, len = 0;

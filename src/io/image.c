@@ -13,6 +13,7 @@
 
 #include "../base/mem.h"
 #include "image_oiio.h"
+#include "infile.h"
 #include "png_file.h"
 
 #include <dlfcn.h>
@@ -826,16 +827,11 @@ static int read_png(const char *path, SumiOiioPixels *px, char *err, size_t errl
 ** first, for a clear message. */
 static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err,
                        size_t errlen) {
-  struct stat st;
-  if (stat(path, &st) != 0) {
-    set_err(err, errlen, "cannot read '%s': %s", path, strerror(errno));
-    return 0;
-  }
-  if (S_ISDIR(st.st_mode)) {
-    set_err(err, errlen, "cannot read '%s': is a directory", path);
-    return 0;
-  }
   char why[768];
+  if (!infile_check(path, INFILE_MAX_IMAGE, "an image", why, sizeof why)) {
+    set_err(err, errlen, "cannot read '%s': %s", path, why);
+    return 0;
+  }
   if (want == 0 && png_is_png_file(path)) return read_png(path, px, err, errlen);
   if (!image_bridge_load(why, sizeof why)) {
     set_err(err, errlen, "cannot read '%s': %s", path, why);

@@ -5,6 +5,8 @@
 */
 #include "mesh_import.h"
 
+#include "infile.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -225,8 +227,7 @@ static void obj_file_order(const char *path, SceneGeometry *g) {
 
 static int check_file(const char *path, char *err, size_t errlen) {
   struct stat st;
-  if (stat(path, &st) != 0) return failf(err, errlen, "%s", strerror(errno));
-  if (!S_ISREG(st.st_mode)) return failf(err, errlen, "not a regular file");
+  if (!infile_check(path, INFILE_MAX_MESH, "a mesh", err, errlen) || stat(path, &st) != 0) return 0;
   FILE *f = fopen(path, "rb");
   if (!f) return failf(err, errlen, "%s", strerror(errno));
   fclose(f);

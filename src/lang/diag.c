@@ -16,6 +16,7 @@
 
 #include "../base/mem.h"
 #include "../base/utf8.h"
+#include "../io/infile.h"
 
 /* A source line longer than this many characters is shown as a window
 ** around the error column. */
@@ -183,8 +184,8 @@ static char *read_stream(FILE *f, size_t *len) {
 int diag_load_file(const char *path, int included_from, SrcRange include_loc, const char **why) {
   FILE *f = stdin;
   if (strcmp(path, "-") != 0) {
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) { *why = "is a directory"; return -1; }
+    static char reason[160];
+    if (!infile_check(path, INFILE_MAX_SOURCE, "a scene file", reason, sizeof reason)) { *why = reason; return -1; }
     f = fopen(path, "rb");
     if (!f) { *why = strerror(errno); return -1; }
   }

@@ -414,9 +414,11 @@ static ENode *compile_expr(Compiler *c, AstNode *a) {
 
 /* ---- includes and use ----------------------------------------------- */
 
+/* Anything at path ends the search: what is not a file readable as a
+** scene is then reported as what it is (diag_load_file checks it). */
 static int is_file(const char *path) {
   struct stat st;
-  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+  return stat(path, &st) == 0;
 }
 
 /* The folder part of path ("" for a bare name), with a trailing slash. */

@@ -12,6 +12,7 @@
 #include "schema.h"
 
 #include "habits.h"
+#include "../io/infile.h"
 
 #include <errno.h>
 #include <math.h>
@@ -883,7 +884,7 @@ static const Row shade_origami_rows[] = {
   TYPED("color", T_COLOR, SceneShade, origami_color),
   CUSTOM("weights", cv_weights, 0),
   NUM("radius", SceneShade, origami_radius, 0, 1000, 8),
-  TYPED("texture", T_STRING, SceneShade, origami_texture),
+  {"texture", T_STRING, 0, 0, NAN, offsetof(SceneShade, origami_texture), R_FILE, NULL, NULL},
 };
 
 /* shade threshold: toon's rows (two tones by default: hatching's ink and
@@ -983,7 +984,7 @@ static const Row lines_rows[] = {
   NUM("width", SceneLines, width, 0, 1000, 1.5),
   TYPED("color", T_COLOR, SceneLines, color),
   NUM("opacity", SceneLines, opacity, 0, 1, 1),
-  TYPED("texture", T_STRING, SceneLines, texture),
+  {"texture", T_STRING, 0, 0, NAN, offsetof(SceneLines, texture), R_FILE, NULL, NULL},
   NUM("ref_scale", SceneLines, ref_scale, 0.05, 8, 1),
   INT("search_width", SceneLines, search_width, 0, 64, 2),
   INT("max_misses", SceneLines, max_misses, 0, 64, 2),
@@ -1174,8 +1175,12 @@ static int missing_file(Ctx *c, const Prop *p) {
   char path[4096];
   if (v->u.s->s[0] == '/' || !slash) snprintf(path, sizeof path, "%s", v->u.s->s);
   else snprintf(path, sizeof path, "%.*s/%s", (int)(slash - f->name), f->name, v->u.s->s);
-  if (access(path, R_OK) == 0) return 0;
-  ev_error(c->ev, p->vloc[0], "`%s` in `%s`: cannot read `%s`: %s", p->name, c->what, v->u.s->s, strerror(errno));
+  char why[256];
+  if (infile_check(path, INFILE_MAX_IMAGE, "an image", why, sizeof why)) {
+    if (access(path, R_OK) == 0) return 0;
+    snprintf(why, sizeof why, "%s", strerror(errno));
+  }
+  ev_error(c->ev, p->vloc[0], "`%s` in `%s`: cannot read `%s`: %s", p->name, c->what, v->u.s->s, why);
   return 1;
 }
 
