@@ -25,6 +25,7 @@
 #include "lang/eval.h"
 #include "lang/parse.h"
 #include "io/image.h"
+#include "io/tempfile.h"
 #include "render/render.h"
 #include "render/stats.h"
 #include "render/svg.h"
@@ -513,8 +514,40 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
   return status;
 }
 
+/* Before any work: path's folder must exist and take files, and a file
+** already at path must be a regular one we may replace (the rename would
+** silently replace a read-only file, or a device node). 1, or 0 after
+** saying why, as a failed write does. */
+static int output_writable(const char *path) {
+  struct stat st;
+  char why[4400] = "", dir[4096];
+  const char *slash = strrchr(path, '/');
+  snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+  if (stat(path, &st) == 0) {
+    if (S_ISDIR(st.st_mode)) snprintf(why, sizeof why, "is a directory");
+    else if (!S_ISREG(st.st_mode)) snprintf(why, sizeof why, "is not a regular file");
+    else if (access(path, W_OK) != 0 || !(st.st_mode & 0222))
+      snprintf(why, sizeof why, "it exists and is read-only (sumi does not replace it)");
+  } else if (stat(dir, &st) != 0) snprintf(why, sizeof why, "its folder `%s` does not exist", dir);
+  else if (!S_ISDIR(st.st_mode)) snprintf(why, sizeof why, "`%s` is not a folder", dir);
+  else if (access(dir, W_OK | X_OK) != 0) snprintf(why, sizeof why, "its folder `%s` is not writable", dir);
+  if (!why[0]) return 1;
+  fprintf(stderr, "sumi: cannot write '%s': %s\n", path, why);
+  return 0;
+}
+
+/* The checks of an output and --aov made before any work; exits with
+** usage for a bad --aov, returns 0 when the output cannot be written. */
+static int render_checks(const Options *o, const char *path) {
+  char err[256];
+  if (o->aov && !render_aov_list_ok(o->aov, err, sizeof err)) bad_usage("%s", err);
+  tempfile_handle_signals();   /* an interrupted write removes its temporary */
+  return output_writable(path);
+}
+
 /* sumi render FILE -o OUT [--frames A:B]: one image, or one a frame. */
 static int cmd_render(const Options *o) {
+  if (!o->frames && !render_checks(o, o->output)) return 1;
   prefetch_for_output(o);
   if (!o->frames) return render_frame_to(o, 0, 0, o->output);
   if (!strcmp(o->input, "-")) bad_usage("--frames reads the scene once a frame: give a file, not -");
@@ -523,6 +556,7 @@ static int cmd_render(const Options *o) {
   for (int fr = first; fr <= last; fr++) {
     char path[4096];
     frame_path(path, sizeof path, o->output, fr);
+    if (!render_checks(o, path)) return 1;
     double clock = scene_frame_clock(first, last, fr, o->loop);
     if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
     int status = render_frame_to(o, clock, fr, path);
@@ -549,6 +583,7 @@ static int watched_changed(const Watched *w) {
 ** included (every 200 ms) and render again when one changes. */
 static int cmd_watch(const Options *o) {
   if (!strcmp(o->input, "-")) bad_usage("`sumi watch` needs a file to watch, not -");
+  if (!render_checks(o, o->output)) return 1;
   prefetch_for_output(o);
   for (;;) {
     int status = render_frame_to(o, 0, 0, o->output);

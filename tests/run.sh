@@ -106,6 +106,25 @@ for f in "$ROOT"/tests/hostile/*.npr; do
   fi
 done
 
+# An interrupted render leaves nothing behind: SIGTERM or SIGINT while the
+# PNG streams to its temporary removes it, and the target is never made.
+# (perl resets SIGINT, which a shell ignores in the commands it starts in
+# the background.)
+interrupted() {
+  sig=$1; dir="$OUT/interrupt.$sig.dir"
+  rm -rf "$dir"; mkdir -p "$dir"
+  perl -e '$SIG{INT} = "DEFAULT"; exec @ARGV' "$SUMI" render "$ROOT/tests/hostile/signal/slow.npr" \
+    -o "$dir/out.png" --quiet 2>/dev/null &
+  pid=$!
+  k=0; while [ $k -lt 600 ] && ! ls "$dir" | grep -q tmp; do sleep 0.05; k=$((k + 1)); done
+  kill -"$sig" $pid 2>/dev/null; wait $pid 2>/dev/null; status=$?
+  left=$(ls "$dir")
+  if [ $k -lt 600 ] && [ -z "$left" ] && [ $status -gt 128 ]; then pass
+  else fail "hostile/interrupted by SIG$sig (exit $status, left: ${left:-nothing}, waited $k)"; fi
+}
+interrupted TERM
+interrupted INT
+
 # Render snapshots.
 cases render
 for f in "$ROOT"/tests/render/*.npr; do

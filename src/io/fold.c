@@ -15,6 +15,7 @@
 
 #include "../geom/origami.h"
 #include "infile.h"
+#include "tempfile.h"
 
 /* Frames inherit through at most this many parents (a cycle stops here). */
 #define FOLD_MAX_INHERIT 64
@@ -505,13 +506,14 @@ int fold_write_state(const char *path, const FoldState *st, char *err, size_t er
   char tmp[4096];
   snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
   FILE *f = fopen(tmp, "w");
+  if (f) tempfile_add(tmp);
   int bad = !f || fputs(text, f) < 0 || fputc('\n', f) < 0;
   if (f && fclose(f) != 0) bad = 1;
   if (!bad && rename(tmp, path) != 0) bad = 1;
   if (bad) {
     snprintf(err, errlen, "%s: cannot write: %s", path, strerror(errno));
-    remove(tmp);
-  }
+    tempfile_discard(tmp);
+  } else tempfile_forget(tmp);
   free(text);
   return bad;
 }

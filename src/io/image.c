@@ -14,6 +14,7 @@
 #include "../base/mem.h"
 #include "image_oiio.h"
 #include "infile.h"
+#include "tempfile.h"
 #include "png_file.h"
 
 #include <dlfcn.h>
@@ -437,6 +438,7 @@ static int make_temp(const char *path, char *tmp, size_t size) {
     int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       close(fd);
+      tempfile_add(tmp);   /* removed if a signal ends the program before the rename */
       return 1;
     }
     if (errno != EEXIST) return 0;
@@ -462,9 +464,12 @@ static int begin_write(const char *path, char *tmp, size_t size, char *err, size
 
 /* Rename the written tmp to path; on failure remove it. */
 static int end_write(const char *path, const char *tmp, char *err, size_t errlen) {
-  if (rename(tmp, path) == 0) return 1;
+  if (rename(tmp, path) == 0) {
+    tempfile_forget(tmp);
+    return 1;
+  }
   int e = errno;
-  unlink(tmp);
+  tempfile_discard(tmp);
   set_err(err, errlen, "cannot write '%s': %s", path, strerror(e));
   return 0;
 }
@@ -518,13 +523,13 @@ static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOi
   if (!begin_write(path, tmp, sizeof tmp, err, errlen)) return 0;
   if (format_of(path) == FMT_PNG) {
     if (!write_png(path, tmp, px, err, errlen)) {
-      unlink(tmp);
+      tempfile_discard(tmp);
       return 0;
     }
     return end_write(path, tmp, err, errlen);
   }
   if (!bridge->write(tmp, px, w, why, sizeof why)) {
-    unlink(tmp);
+    tempfile_discard(tmp);
     set_err(err, errlen, "cannot write '%s': %s", path, why);
     return 0;
   }
@@ -568,13 +573,13 @@ ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err
   SumiOiioWrite how = {0, NULL, "sRGB", 0};   /* what write_encoded gives an 8-bit image */
   if (format_of(path) == FMT_PNG) {
     if ((s->png = png_begin(path, s->tmp, &px, &s->file, err, errlen))) return s;
-    unlink(s->tmp);
+    tempfile_discard(s->tmp);
     free(s);
     return NULL;
   }
   s->out = bridge->stream_open(s->tmp, &px, &how, s->why, sizeof s->why);
   if (!s->out) {
-    unlink(s->tmp);
+    tempfile_discard(s->tmp);
     set_err(err, errlen, "cannot write '%s': %s", path, s->why);
     free(s);
     return NULL;
@@ -605,7 +610,7 @@ void image_stream_discard(ImageStream *s) {
   while (s->next < s->height) image_stream_rows(s, s->next, s->next + 1, blank);
   free(blank);
   stream_finish(s);
-  unlink(s->tmp);
+  tempfile_discard(s->tmp);
   free(s);
 }
 
@@ -613,7 +618,7 @@ int image_stream_close(ImageStream *s, char *err, size_t errlen) {
   if (!stream_finish(s)) s->failed = 1;
   int ok = 0;
   if (s->failed) {
-    unlink(s->tmp);
+    tempfile_discard(s->tmp);
     set_err(err, errlen, "cannot write '%s': %s", s->path, s->why);
   } else {
     ok = end_write(s->path, s->tmp, err, errlen);

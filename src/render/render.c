@@ -1407,8 +1407,26 @@ static int write_aov(GBuffer *g, const char *output, const char *name, char *err
   return 0;
 }
 
+static const char *const aov_names[] = {"depth", "normal", "position", "uv", "object", "face"};
+
+int render_aov_list_ok(const char *list, char *err, size_t errlen) {
+  char name[32];
+  for (const char *p = list;; p++) {
+    size_t n = strcspn(p, ",");
+    snprintf(name, sizeof name, "%.*s", (int)(n < sizeof name ? n : sizeof name - 1), p);
+    int known = !strcmp(name, "all");
+    for (int i = 0; i < 6 && !known; i++) known = !strcmp(name, aov_names[i]);
+    if (!known || n >= sizeof name) {
+      snprintf(err, errlen, "--aov: unknown pass `%s` (depth, normal, position, uv, object, face, all)", name);
+      return 0;
+    }
+    p += n;
+    if (!*p) return 1;
+  }
+}
+
 int render_write_aovs(GBuffer *g, const char *output, const char *list, char *err, size_t errlen) {
-  static const char *const all[] = {"depth", "normal", "position", "uv", "object", "face"};
+  const char *const *all = aov_names;
   char name[32];
   for (const char *p = list; *p;) {
     size_t n = strcspn(p, ",");

@@ -217,4 +217,8 @@ void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f);
 ** in err (an unknown pass name, a failed write). */
 int render_write_aovs(GBuffer *g, const char *output, const char *list, char *err, size_t errlen);
 
+/* 1 when every name in the --aov list is a pass (checked before any
+** work); else 0 with the first unknown one in err. */
+int render_aov_list_ok(const char *list, char *err, size_t errlen);
+
 #endif

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "../base/mem.h"
+#include "../io/tempfile.h"
 #include "stats.h"
 #include "stroke.h"
 #include "svg_origami.h"
@@ -133,20 +134,21 @@ int svg_render_scene(const Scene *s, const RenderOptions *o, const char *path) {
   if (render_scene(s, &ro, &img, &g) != 0) return 1;
   double t0 = stats_now();
   SvgFrame fr = frame_of(img, g, s->nobjects);
-  size_t n = strlen(path) + 8;
+  size_t n = strlen(path) + 32;
   char *tmp = xmalloc(n);
-  snprintf(tmp, n, "%s.tmp", path);
+  snprintf(tmp, n, "%s.tmp-%ld", path, (long)getpid());
   FILE *f = fopen(tmp, "w");
   int status = 1;
   if (f) {
+    tempfile_add(tmp);   /* removed if a signal ends the program first */
     int ok = write_document(f, &fr, s, &g->camera.world_to_clip, sl);
     int bad = ferror(f);
     if (fclose(f) != 0) bad = 1;
-    if (ok && !bad && rename(tmp, path) == 0) status = 0;
-    else if (ok) fprintf(stderr, "sumi: %s: cannot write: %s\n", path, strerror(errno));
-    if (status) remove(tmp);
+    if (ok && !bad && rename(tmp, path) == 0) status = 0, tempfile_forget(tmp);
+    else if (ok) fprintf(stderr, "sumi: cannot write '%s': %s\n", path, strerror(errno));
+    if (status) tempfile_discard(tmp);
   } else {
-    fprintf(stderr, "sumi: %s: cannot write: %s\n", path, strerror(errno));
+    fprintf(stderr, "sumi: cannot write '%s': %s\n", path, strerror(errno));
   }
   stats_record("write", stats_now() - t0);
   free(tmp);
