@@ -134,8 +134,8 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "--quiet")) o->quiet = 1;
     else if (!strcmp(a, "--loop")) o->loop = 1;
     else if (!strcmp(a, "-o")) { NEED_VALUE(); o->output = v; }
-    else if (!strcmp(a, "-W")) { NEED_VALUE(); o->width = parse_int_arg(a, v, 1, 32768); }
-    else if (!strcmp(a, "-H")) { NEED_VALUE(); o->height = parse_int_arg(a, v, 1, 32768); }
+    else if (!strcmp(a, "-W")) { NEED_VALUE(); o->width = parse_int_arg(a, v, 1, RENDER_MAX_SIZE); }
+    else if (!strcmp(a, "-H")) { NEED_VALUE(); o->height = parse_int_arg(a, v, 1, RENDER_MAX_SIZE); }
     else if (!strcmp(a, "--threads")) { NEED_VALUE(); o->threads = parse_int_arg(a, v, 1, 256); }
     else if (!strcmp(a, "-D")) { NEED_VALUE(); o->defines = push_str(o->defines, &o->ndefines, v); }
     else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
