@@ -119,7 +119,7 @@ TEST(errors_for_bad_files) {
   CHECK(strstr(err, "empty") != NULL);
 
   CHECK(!import(tmpdir, &g, &a, err, sizeof err));
-  CHECK(strstr(err, "not a regular file") != NULL);
+  CHECK(strstr(err, "is a directory") != NULL);
 
   CHECK(!import(write_file("points.obj", "v 0 0 0\nv 1 0 0\np 1\np 2\n"), &g, &a, err, sizeof err));
   CHECK(strstr(err, "no polygons") != NULL);
