@@ -732,6 +732,109 @@ TEST(draw_scene) {
   free(rgba);
 }
 
+/* The face-ID buffer's overwrite rule (§5.1), against an oracle that never
+** draws: at each pixel centre well inside the faces that cover it, the
+** buffer holds the one face over all the others there (for this viewer),
+** whatever order the faces are drawn in. */
+static int covers(const OrigamiModel *m, int f, double x, double y, int *edge) {
+  for (int t = 0; t < m->ntris; t++) {
+    if (m->tri_face[t] != f) continue;
+    Vec2 a = m->folded[m->tri[t][0]], b = m->folded[m->tri[t][1]], c = m->folded[m->tri[t][2]];
+    double d = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (d == 0) continue;
+    double u = ((b.x - x) * (c.y - y) - (b.y - y) * (c.x - x)) / d;
+    double v = ((c.x - x) * (a.y - y) - (c.y - y) * (a.x - x)) / d;
+    double w = 1 - u - v, lo = fmin(u, fmin(v, w));
+    if (fabs(lo) < 1e-3) *edge = 1;                          /* too near an edge to judge */
+    if (lo > 0) return 1;
+  }
+  return 0;
+}
+
+static void check_overwrite_rule(const OrigamiModel *m, int from_below) {
+  int w = 48, h = 48;
+  double x0 = m->fold_min.x - 0.1, y0 = m->fold_min.y - 0.1, x1 = m->fold_max.x + 0.1, y1 = m->fold_max.y + 0.1;
+  Mat4 c = view_box(x0, y0, x1, y1);
+  if (from_below) c = m4_mul(m4_mul(c, m4_scale(v3(-1, 1, -1))), m4_translate(v3(-(x0 + x1), 0, 0)));
+  int32_t *ids = xmalloc((size_t)w * h * sizeof *ids);
+  int *order = xmalloc((size_t)m->nfaces * sizeof *order);
+  long judged = 0;
+  for (int round = 0; round < 2; round++) {                  /* drawn first to last, then last to first */
+    for (int i = 0; i < m->nfaces; i++) order[i] = round ? m->nfaces - 1 - i : i;
+    origami_render_ids(m, &c, w, h, order, ids);
+    for (int py = 0; py < h; py++)
+      for (int px = 0; px < w; px++) {
+        double x = x0 + (px + 0.5) / w * (x1 - x0), y = y1 - (py + 0.5) / h * (y1 - y0);
+        if (from_below) x = x0 + x1 - x;
+        int edge = 0, want = -1, n = 0;
+        for (int f = 0; f < m->nfaces; f++)
+          if (covers(m, f, x, y, &edge)) {
+            n++;
+            int top = 1;
+            for (int g = 0; g < m->nfaces && top; g++)
+              if (g != f && covers(m, g, x, y, &edge))
+                top = from_below ? origami_is_above(m, g, f) : origami_is_above(m, f, g);
+            if (top) want = f;
+          }
+        if (edge || (n > 0 && want < 0)) continue;
+        judged++;
+        CHECK_EQ_INT(ids[py * w + px], want);
+      }
+  }
+  CHECK(judged > w * h / 2);
+  free(order);
+  free(ids);
+}
+
+TEST(face_id_overwrite_rule) {
+  Paper p;
+  zfold(&p);
+  above(&p, 2, 0);
+  OrigamiModel *m;
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  check_overwrite_rule(m, 0);
+  check_overwrite_rule(m, 1);
+  origami_free(m);
+  three_cycle(&p);
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  check_overwrite_rule(m, 0);
+  origami_free(m);
+}
+
+/* Colour reaches the picture through sRGB, not a 2.2 gamma: a mid-grey
+** `color` (sRGB code 128) and a mid-grey texel both come out as code 128. */
+TEST(mid_grey_stays_mid_grey) {
+  Paper p;
+  zfold(&p);
+  OrigamiModel *m;
+  errors_of(&p, 0, &m);
+  if (!m) { CHECK(m != NULL); return; }
+  float grey = image_srgb8_to_linear(128);
+  int w = 20, h = 20;
+  float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba);
+  SceneStyle st;
+  memset(&st, 0, sizeof st);
+  st.shade.kind = SHADE_ORIGAMI;
+  st.shade.origami_mode = 0;                                 /* line mode: the colour alone */
+  st.shade.origami_color = (Color){grey, grey, grey, 1};
+  Mat4 c = view_box(0, 0, 1, 1);
+  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  origami_render(m, &st, &c, NULL, &t);
+  float *mid = rgba + ((size_t)(h / 2) * w + w / 2 + 2) * 4;
+  CHECK_NEAR(mid[0], grey, 1e-5);
+  CHECK_EQ_INT(image_linear_to_srgb8(mid[1]), 128);
+  Image *tex = image_create(1, 1, 3);                        /* a mid-grey texel */
+  tex->data[0] = tex->data[1] = tex->data[2] = grey;
+  origami_render(m, &st, &c, tex, &t);
+  CHECK_NEAR(mid[0], grey, 1e-5);
+  CHECK_EQ_INT(image_linear_to_srgb8(mid[2]), 128);
+  image_destroy(tex);
+  free(rgba);
+  origami_free(m);
+}
+
 int main(void) {
   diag_init(DIAG_TEXT);
   RUN(zfold_faces_and_fold);
@@ -756,5 +859,7 @@ int main(void) {
   RUN(outline_as_wide_as_inner_lines);
   RUN(texture_on_the_front);
   RUN(draw_scene);
+  RUN(face_id_overwrite_rule);
+  RUN(mid_grey_stays_mid_grey);
   return unit_done();
 }
