@@ -43,7 +43,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    libassimp-dev libxml2-dev libpotrace-dev librsvg2-bin clang libclang-rt-14-dev \
                    assimp-testmodels python3-skimage
 
-.PHONY: all deps test test-unit update-snapshots update-golden fuzz bench bench-parse \
+.PHONY: all deps test test-unit update-snapshots update-golden fuzz valgrind bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
@@ -172,6 +172,11 @@ bench-solve: deps all
 bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
 
+# Every example rendered small under valgrind's memcheck (minutes).
+valgrind: PEER_PACKAGES := valgrind
+valgrind: deps all
+	sh tests/valgrind.sh $(BUILD)/sumi
+
 # Every real crease pattern in ../shared/data/cp against Flat-Folder's
 # counts (minutes; make test runs the fast rows).
 check-cp: all
@@ -209,6 +214,7 @@ help:
 	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer: parser, evaluator, FOLD, mesh, image (FUZZ_TARGETS=...)"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
+	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/"
 

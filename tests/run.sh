@@ -73,7 +73,8 @@ check_text eval out "$SUMI" eval --scene
 # sanitizer builds (ASan reserves terabytes of address space), an
 # address-space cap (`// memory: MB`, default 4096), so a runaway fails its
 # test instead of stalling the suite. `@OUT@` in a case is a fresh scratch
-# folder (printed back as @OUT@; a case naming it runs as a copy there),
+# folder (printed back as @OUT@; a case naming it runs as a copy there,
+# where @OUT@ in the scene reads `.`, so its lines keep one length),
 # `// setup: CMD` runs in it first, and `// command: render` picks the
 # subcommand (default check).
 hostile_meta() { head -8 "$1" | sed -n "s|^// $2: *||p" | head -1; }
@@ -93,7 +94,7 @@ for f in "$ROOT"/tests/hostile/*.npr; do
   case "$BUILD" in *san*) ;; *) vcap="ulimit -v $(( ${mb:-4096} * 1024 ));" ;; esac
   [ -n "$setup" ] && (cd "$scratch" && sh -c "$setup") >/dev/null 2>&1
   dir="$ROOT/tests/hostile"   # a case naming @OUT@ runs as a copy in the scratch folder
-  if grep -q @OUT@ "$f"; then sed "s|@OUT@|$scratch|g" "$f" >"$scratch/$name.npr"; dir=$scratch; fi
+  if grep -q @OUT@ "$f"; then sed "s|@OUT@|.|g" "$f" >"$scratch/$name.npr"; dir=$scratch; fi
   # shellcheck disable=SC2086
   (cd "$dir" && sh -c "$vcap exec timeout -k 2 ${secs:-20} \"\$@\"" sh \
      "$SUMI" $cmd "$name.npr" $args >"$got.stdout" 2>"$got.stderr"

@@ -37,7 +37,8 @@ static double fit_at(const Fit *t, int ch, double x, double y) {
   return t->a[ch] + t->gx[ch] * (x - t->cx) + t->gy[ch] * (y - t->cy);
 }
 
-static uint8_t code(double v) { return (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v + 0.5); }
+/* (NaN, from a face whose fit has no pixels, is 0: casting it is undefined) */
+static uint8_t code(double v) { return (uint8_t)(!(v > 0) ? 0 : v > 255 ? 255 : v + 0.5); }
 
 static void hex(char out[8], const uint8_t *c) { snprintf(out, 8, "#%02x%02x%02x", c[0], c[1], c[2]); }
 
