@@ -1433,6 +1433,41 @@ static int emit_style(Ctx *c, const BlockVal *b) {
 }
 
 
+/* Where property name is written in b (its value), or the block itself. */
+static SrcRange prop_at(const BlockVal *b, const char *name) {
+  for (int i = b->nprops - 1; i >= 0; i--)
+    if (!strcmp(b->props[i].name, name) && b->props[i].n > 0) return b->props[i].vloc[0];
+  return b->loc;
+}
+
+/* A geometry that can draw nothing: no faces, or patches without area. */
+static const char *empty_geometry(const SceneGeometry *g) {
+  if (g->kind == GEOM_MESH) return g->nverts == 0 || g->nfaces == 0 ? "has no faces" : NULL;
+  for (int i = 0; i < g->npatches; i++) {   /* area unless its points lie on one line */
+    const Vec3 *p = g->patches[i].cp;
+    Vec3 d = v3(0, 0, 0);
+    for (int k = 1; k < 16; k++) {
+      Vec3 e = v3_sub(p[k], p[0]);
+      if (v3_len(d) == 0) d = e;
+      else if (v3_len(v3_cross(d, e)) > 0) return NULL;
+    }
+  }
+  return g->npatches ? "has patches of no area (their points lie on one line)" : "has no patches";
+}
+
+/* Quiet wrong pictures an object can make: warned where they are written. */
+static void check_object(const SceneObject *o, const BlockVal *b) {
+  const Mat4 *m = &o->transform;
+  double det = m->m[0][0] * (m->m[1][1] * m->m[2][2] - m->m[1][2] * m->m[2][1]) -
+               m->m[0][1] * (m->m[1][0] * m->m[2][2] - m->m[1][2] * m->m[2][0]) +
+               m->m[0][2] * (m->m[1][0] * m->m[2][1] - m->m[1][1] * m->m[2][0]);
+  if (det == 0)
+    diag_warning(prop_at(b, "transform"), "this `transform` flattens the object (its determinant is 0, "
+                 "as scale(0) is): it draws as a plane, a line or nothing");
+  const char *why = o->geometry ? empty_geometry(o->geometry) : NULL;
+  if (why) diag_warning(prop_at(b, "geometry"), "this geometry %s: the object draws nothing", why);
+}
+
 static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
   Scene *sc = c->ev->scene;
   SceneObject o;
@@ -1445,6 +1480,7 @@ static int emit_object(Ctx *c, const Schema *s, const BlockVal *b) {
   o.loc = b->loc;
   if (check_props(c, s, b, &o) || no_subs(c, b)) return -1;
   o.transform = m4_mul(c->ev->xform, o.transform);   /* inside `translate(v) object { ... }` */
+  check_object(&o, b);
   sc->objects = grow(c, sc->objects, sc->nobjects, sizeof *sc->objects);
   sc->objects[sc->nobjects++] = o;
   return 0;
@@ -1610,6 +1646,17 @@ static int emit_simple(Ctx *c, const Schema *s, const BlockVal *b) {
     cam.kind = CAMERA_PERSPECTIVE;
     cam.loc = b->loc;
     if (check_props(c, s, b, &cam) || no_subs(c, b)) return -1;
+    /* `up` names the picture's top: without one across the view, none is */
+    Vec3 fwd = v3_sub(cam.look_at, cam.position);
+    if (v3_len(cam.up) == 0) {
+      ev_error(c->ev, prop_at(b, "up"), "`up` cannot be [0, 0, 0]: it says which way the picture's top points");
+      return -1;
+    }
+    if (v3_len(fwd) > 0 && v3_len(v3_cross(fwd, cam.up)) <= 1e-9 * v3_len(fwd) * v3_len(cam.up)) {
+      ev_error(c->ev, prop_at(b, "up"), "`up` is parallel to the view (from `position` to `look_at`): the "
+               "picture's top is undefined; give an `up` across the view");
+      return -1;
+    }
     sc->camera = cam;
     return 0;
   }
