@@ -29,6 +29,7 @@
 #include "render/render.h"
 #include "render/stats.h"
 #include "render/svg.h"
+#include "render/tile.h"
 
 #define SUMI_VERSION "0.1.0"
 
@@ -39,7 +40,7 @@ typedef struct Options {
   const char *output;
   int ast, scene, compare, stats, quiet, loop;
   int width, height, threads;
-  const char *frames, *aov;
+  const char *frames, *aov, *tile;
   const char **defines; int ndefines;
   const char **include_dirs; int ninclude_dirs;
   long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
@@ -140,6 +141,7 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "-D")) { NEED_VALUE(); o->defines = push_str(o->defines, &o->ndefines, v); }
     else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
     else if (!strcmp(a, "--frames")) { NEED_VALUE(); o->frames = v; }
+    else if (!strcmp(a, "--tile")) { NEED_VALUE(); o->tile = v; }
     else if (!strcmp(a, "--aov")) { NEED_VALUE(); o->aov = v; }
     else if (!strcmp(a, "--count")) o->count = 1;
     else if (!strcmp(a, "--limit")) { NEED_VALUE(); o->limit = parse_int_arg(a, v, 1, 1000000000); }
@@ -405,18 +407,18 @@ typedef struct OutputStream {
   char err[512];              /* why it could not */
 } OutputStream;
 
-static void stream_begin(void *ctx, const Image *img) {
+static int stream_begin(void *ctx, const Image *img) {
   OutputStream *os = ctx;
-  if (!image_stream_fits(os->path, img->channels)) return;   /* image_write converts it */
+  if (!image_stream_fits(os->path, img->channels)) return 0;   /* image_write converts it */
   os->begun = 1;
   os->file = image_stream_open(os->path, img->width, img->height, img->channels, os->err,
                                sizeof os->err);
+  return 1;
 }
 
-static void stream_rows(void *ctx, const Image *img, int y0, int y1) {
+static void stream_rows(void *ctx, const Image *band, int y0, int y1) {
   OutputStream *os = ctx;
-  if (os->file)
-    image_stream_rows(os->file, y0, y1, img->data8 + (size_t)y0 * img->width * img->channels);
+  if (os->file) image_stream_rows(os->file, y0, y1, band->data8);
 }
 
 /* Samples from which a frame's heap is backed by huge pages (base/mem.h):
@@ -442,6 +444,15 @@ static void prefetch_for_output(const Options *o) {
     image_bridge_prefetch();
 }
 
+/* The window of --tile in the frame ro is resolved for (usage errors
+** end the program: tile_check did the spec's own). */
+static void tile_window(const Options *o, RenderOptions *ro) {
+  TileSpec t;
+  char err[256];
+  if (!tile_parse(o->tile, &t, err, sizeof err) || !tile_rect(&t, ro->width, ro->height, &ro->window, err, sizeof err))
+    bad_usage("%s", err);
+}
+
 /* Render the evaluated scene to path (an image, or the strokes as SVG),
 ** with the --aov passes beside it. Returns the exit status. */
 static int render_to(const Options *o, const Scene *scene, const char *path) {
@@ -451,6 +462,7 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   heap_for_frame(scene, &ro);
   ro.threads = o->threads;
   ro.stats = o->stats;
+  if (o->tile) tile_window(o, &ro);
   const char *ext = strrchr(path, '.');
   if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
   ro.out8 = image_write_is_8bit(path);

@@ -412,11 +412,11 @@ static inline int lowest_bit(uint32_t v) {
 #endif
 }
 
-/* Where deposits go: the band's rows [y0, y1) of cov, w wide. */
+/* Where deposits go: the band's rows [y0, y1) of cov, columns [x0, x0 + w). */
 typedef struct Canvas {
   float *cov;
-  int w, y0, y1;
-  size_t base;   /* (BRUSH_SHIFT + y0) w + BRUSH_SHIFT: shifted pixel (x, y) is cov[y w + x - base] */
+  int x0, w, y0, y1;
+  size_t base;   /* (BRUSH_SHIFT + y0) w + BRUSH_SHIFT + x0: shifted pixel (x, y) is cov[y w + x - base] */
 } Canvas;
 
 /* A deposit is split the way Wu draws an antialiased line: the brush
@@ -459,8 +459,8 @@ static void deposit_clipped(const Canvas *cv, float sx, float sy, float d, int x
   split_weights(xmajor ? sx : sy, xmajor ? sy : sx, d, &im, &in, a);
   for (int q = 0; q < 2; q++) {
     int xx = (xmajor ? im : in + q) - BRUSH_SHIFT, yy = (xmajor ? in + q : im) - BRUSH_SHIFT;
-    if (xx < 0 || xx >= cv->w || yy < cv->y0 || yy >= cv->y1) continue;
-    float *c = &cv->cov[(size_t)(yy - cv->y0) * cv->w + xx];
+    if (xx < cv->x0 || xx >= cv->x0 + cv->w || yy < cv->y0 || yy >= cv->y1) continue;
+    float *c = &cv->cov[(size_t)(yy - cv->y0) * cv->w + (xx - cv->x0)];
     *c += a[q] * (1 - *c);
   }
 }
@@ -471,7 +471,7 @@ static void deposit_clipped(const Canvas *cv, float sx, float sy, float d, int x
 static inline void deposit_near_edge(const Canvas *cv, float sx, float sy, float d, int xmajor) {
   int ix = (int)(xmajor ? sx + 0.5f : sx) - BRUSH_SHIFT, iy = (int)(xmajor ? sy : sy + 0.5f) - BRUSH_SHIFT;
   int x1 = ix + !xmajor, y1 = iy + xmajor;   /* the second pixel */
-  if (iy >= cv->y0 && y1 < cv->y1 && ix >= 0 && x1 < cv->w) deposit(cv, sx, sy, d, xmajor);
+  if (iy >= cv->y0 && y1 < cv->y1 && ix >= cv->x0 && x1 < cv->x0 + cv->w) deposit(cv, sx, sy, d, xmajor);
   else deposit_clipped(cv, sx, sy, d, xmajor);
 }
 
@@ -534,8 +534,9 @@ static void cover_step(const BrushPath *bp, int i, const Canvas *cv, int clip, c
   }
 }
 
-void brush_cover(const BrushPath *bp, float *cov, int w, int y0, int y1, int *lo, int *hi) {
-  Canvas cv = {cov, w, y0, y1, (size_t)(BRUSH_SHIFT + y0) * (size_t)w + BRUSH_SHIFT};
+void brush_cover(const BrushPath *bp, float *cov, int x0, int w, int y0, int y1, int *lo, int *hi) {
+  Canvas cv = {cov, x0, w, y0, y1, (size_t)(BRUSH_SHIFT + y0) * (size_t)w + BRUSH_SHIFT + (size_t)x0};
+  int x1 = x0 + w;
   size_t n = (size_t)bp->br->n + 1;
   StepPoints sp = {xmalloc(n * sizeof(float)), xmalloc(n * sizeof(float)), xmalloc(n * sizeof(float))};
   for (int i = 0; i < bp->nsteps; i++) {
@@ -543,9 +544,9 @@ void brush_cover(const BrushPath *bp, float *cov, int w, int y0, int y1, int *lo
     float ox = bp->x[i], oy = bp->y[i];
     int ya = floor_int(oy - reach), yb = floor_int(oy + reach) + 1;
     int xa = floor_int(ox - reach), xb = floor_int(ox + reach) + 1;
-    if (yb < y0 || ya >= y1 || xb < 0 || xa >= w) continue;   /* nothing in these rows */
-    cover_step(bp, i, &cv, ya < y0 || yb >= y1 || xa < 0 || xb >= w, &sp);
-    touch(lo, hi, y0, ya > y0 ? ya : y0, yb < y1 - 1 ? yb : y1 - 1, xa > 0 ? xa : 0, xb < w - 1 ? xb : w - 1);
+    if (yb < y0 || ya >= y1 || xb < x0 || xa >= x1) continue;   /* nothing in these rows */
+    cover_step(bp, i, &cv, ya < y0 || yb >= y1 || xa < x0 || xb >= x1, &sp);
+    touch(lo, hi, y0, ya > y0 ? ya : y0, yb < y1 - 1 ? yb : y1 - 1, xa > x0 ? xa : x0, xb < x1 - 1 ? xb : x1 - 1);
   }
   free(sp.x);
   free(sp.y);

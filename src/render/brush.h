@@ -93,9 +93,9 @@ static inline int brush_deposits(const BrushPath *bp, int i, int k) {
 ** rib (x, y pairs, nsteps each), left as seen on the screen. */
 void brush_outline(const BrushPath *bp, float *left, float *right);
 
-/* Accumulate bp's ink into rows [y0, y1) of cov (w columns, row y at
-** cov + (y - y0) * w); lo[r] and hi[r] widen to the columns row y0 + r
-** was written in. */
-void brush_cover(const BrushPath *bp, float *cov, int w, int y0, int y1, int *lo, int *hi);
+/* Accumulate bp's ink into rows [y0, y1) and columns [x0, x0 + w) of cov
+** (pixel (x, y) at cov[(y - y0) * w + x - x0]); lo[r] and hi[r] widen to
+** the columns row y0 + r was written in. */
+void brush_cover(const BrushPath *bp, float *cov, int x0, int w, int y0, int y1, int *lo, int *hi);
 
 #endif

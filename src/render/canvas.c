@@ -60,6 +60,18 @@ static void ink_set_free(InkSet *set) {
   free(set->of_object);
 }
 
+int canvas_margin(const RenderFrame *f) {
+  int passes = 0, box = 0;
+  for (int i = 0; i < f->nstyles; i++) {
+    const InkStyle *k = f->styles[i].ink;
+    if (!k) continue;
+    if (k->stage >= INK_STAGE_DIFFUSED && k->passes > passes) passes = k->passes;
+    if (k->stage == INK_STAGE_FILTERED && k->box > box) box = k->box;
+  }
+  /* a pass moves ink one pixel; the box reads side / 2 pixels around */
+  return (passes < INK_MAX_PASSES ? passes : INK_MAX_PASSES) + box / 2 + 1;
+}
+
 int canvas_wanted(const Scene *s, const RenderFrame *f) {
   if (s->output.sheet.texture) return 1;
   for (int i = 0; i < f->nobjects; i++)
@@ -252,6 +264,7 @@ typedef struct Paint {
   int read_layer;              /* 0: it is transparent everywhere (only ink was drawn) */
   uint8_t *mix[3];             /* one ink colour: per channel, paper code p and density d
                                   (1/256ths) mix to mix[p * 257 + d]; else NULL */
+  int ox, oy;                  /* the frame pixel the layer's first is (a tile's window) */
 } Paint;
 
 /* The mixing tables of one ink colour k (display values): paper code p
@@ -338,10 +351,10 @@ static void mix_flat(const uint8_t *restrict t0, const uint8_t *restrict t1, con
 ** layer shows, the general pixel, encoded. */
 static void composite_row8(const Paint *pt, int y, uint8_t *out) {
   const Paper *pp = pt->pp;
-  int w = pt->layer->width, tw = pp->width;
-  size_t row = (size_t)y * w, row_t = paper_texel(pp, 0, y);
+  int w = pt->layer->width, tw = pp->width, ox = pt->ox;
+  size_t row = (size_t)y * w, row_t = paper_texel(pp, 0, y + pt->oy);   /* the frame's rows and columns */
   const float *ink = pt->c ? pt->c->ink + row : NULL;
-  for (int x0 = 0, tx = 0; x0 < w; x0 += tw - tx, tx = 0) {   /* runs of the tile's row */
+  for (int x0 = 0, tx = ox % tw; x0 < w; x0 += tw - tx, tx = 0) {   /* runs of the tile's row */
     int n = w - x0 < tw - tx ? w - x0 : tw - tx;
     const uint8_t *P = pp->code + 3 * (row_t + (size_t)tx);
     const float *A = pp->absorb ? pp->absorb + row_t + tx : NULL;
@@ -371,7 +384,7 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out) {
     size_t p = row + (size_t)x;
     float lay[4], lin[3];
     if (!layer_pixel(pt->layer, p, lay)) continue;
-    composite_pixel(pt, p, paper_texel(pp, x, y), lay, lin, 3);   /* another object shows here */
+    composite_pixel(pt, p, paper_texel(pp, x + ox, y + pt->oy), lay, lin, 3);   /* another object shows here */
     image_encode8(lin, out + 3 * x, 1, 3);
   }
 }
@@ -393,7 +406,7 @@ static Image *composite(const Paint *pt, int out8) {
       size_t p = (size_t)y * w + x;
       float lay[4] = {0, 0, 0, 0};
       if (pt->read_layer) layer_pixel(layer, p, lay);
-      composite_pixel(pt, p, paper_texel(pt->pp, x, y), lay, out->data + p * nc, nc);
+      composite_pixel(pt, p, paper_texel(pt->pp, x + pt->ox, y + pt->oy), lay, out->data + p * nc, nc);
     }
   return out;
 }
@@ -452,11 +465,15 @@ int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image *
   InkCanvas c;
   InkArea area = {0, 0, 0, 0, 0};
   InkColour col = {{NULL, NULL, NULL}};
-  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, s->norigami > 0, {NULL, NULL, NULL}};
+  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, s->norigami > 0, {NULL, NULL, NULL}, f->win.x0,
+              f->win.y0};
   for (int i = 0; i < f->nobjects; i++) pt.read_layer |= !f->objects[i].style->ink;   /* others drew */
   if (set.n > 0) {
     memcpy(pt.ink_color, set.styles[0].color, sizeof pt.ink_color);
-    ink_canvas_alloc(&c, f->width, f->height, set.styles, set.n);   /* the build writes every pixel */
+    ink_canvas_alloc(&c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, set.styles, set.n);   /* the build
+                                                                  writes every pixel of the window */
+    c.ox = f->win.x0;
+    c.oy = f->win.y0;
     c.absorb = pp.absorb;
     c.absorb_w = pp.width;
     c.absorb_h = pp.height;

@@ -19,11 +19,18 @@
 #include "gbuffer.h"
 #include "render.h"
 
+/* The margin in output pixels a window of f needs around the pixels it
+** keeps for its canvas to give them the whole frame's values: the ink of a
+** pixel depends on the ink of pixels as far as the diffusion's passes and
+** the box filter reach. */
+int canvas_margin(const RenderFrame *f);
+
 /* Does the frame need the canvas: a sheet, or an object in shade ink? */
 int canvas_wanted(const Scene *s, const RenderFrame *f);
 
 /* Paint the frame: *img is the tile pass's image (RGBA, background
-** transparent; float, or 8-bit codes when out8) with its G-buffer g; it is
+** transparent; float, or 8-bit codes when out8) with its G-buffer g, both
+** covering the frame's window (f->win); it is
 ** replaced by the painted image (RGB when the paper is opaque, else RGBA;
 ** 8-bit codes when out8 and opaque, else float). Returns 1, or 0 after a diagnostic (a sheet image
 ** that cannot be read); *img is kept then. */

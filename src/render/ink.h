@@ -90,6 +90,8 @@ static inline int ink_label(const InkStyle *k, float v) { return k->ntones - 1 -
 /* The ink canvas: per pixel, row-major. */
 typedef struct InkCanvas {
   int width, height;
+  int ox, oy;               /* the frame pixel of the canvas's first (a tile's window: the
+                               paper, the noise and each pixel's random value follow it) */
   float *ink;               /* 0..255 */
   float *water;
   uint8_t *level;           /* label, or INK_OFF */

@@ -72,6 +72,7 @@ void ink_canvas_wet(InkCanvas *c) {
 
 static float resist_noise(const InkCanvas *c, int x, int y) {
   const float span = RESIST_CELL * RESIST_PERIOD;
+  x += c->ox, y += c->oy;   /* frame pixels */
   float v = 0.5f + 0.5f * noise_fbm_eval(c->fbm, ((float)x + 0.5f) / span, ((float)y + 0.5f) / span);
   return v < 0 ? 0 : v > 1 ? 1 : v;
 }
@@ -79,13 +80,19 @@ static float resist_noise(const InkCanvas *c, int x, int y) {
 /* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
 ** rho (2 n - 1) over the absorbency, n the smooth noise (cached): it scales
 ** a hop's loss and water cost. */
+/* The paper's absorbency under canvas pixel (x, y). */
+static float absorb_at(const InkCanvas *c, int x, int y) {
+  x += c->ox, y += c->oy;
+  return c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
+}
+
 static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
   size_t p = (size_t)y * c->width + x;
   if (!c->noise[p])   /* not yet: only pixels the diffusion reaches need it */
     c->noise[p] = (uint8_t)(1 + resist_noise(c, x, y) * 254 + 0.5f);   /* 1..255: 0 says not yet */
   float n = (float)(c->noise[p] - 1) * (1.0f / 254);
   float r = 1 + rho * (2 * n - 1);
-  if (c->absorb) r /= c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
+  if (c->absorb) r /= absorb_at(c, x, y);
   return r > 0.1f ? r : 0.1f;
 }
 
@@ -94,9 +101,9 @@ static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
 ** irregular and roundish, not a diamond of four-neighbour steps). */
 static int ink_delay(const InkCanvas *c, int x, int y, float rho) {
   Rng g;   /* the pixel's own random value */
-  rng_seed_key(&g, c->seed, (uint32_t)x, (uint32_t)y);
+  rng_seed_key(&g, c->seed, (uint32_t)(x + c->ox), (uint32_t)(y + c->oy));
   float r = 1 + rho * (2 * (float)rng_uniform(&g) - 1);
-  if (c->absorb) r /= c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
+  if (c->absorb) r /= absorb_at(c, x, y);
   int d = (int)ceilf(INK_DELAY * r);
   return d < 1 ? 1 : d > INK_MAX_DELAY ? INK_MAX_DELAY : d;
 }
@@ -421,28 +428,19 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
 
 /* ---- the box filter ---------------------------------------------------------------- */
 
+/* The box sums below add each window's values afresh, left to right (top
+** to bottom), not as running sums: a pixel's result then depends on its
+** window alone, not on where the filtered rectangle begins, so a tile's
+** canvas (a window of the frame, its ink elsewhere in it) gets the bits
+** the whole frame gets. */
+
 /* Window sums along row src (w values) for outputs x0..x1-1 into dst:
-** each sums src over [x - r, x + r] clipped to the row, as a running sum;
-** the clipped ends apart, so the middle runs without tests. */
+** each sums src over [x - r, x + r] clipped to the row. */
 static void row_sums(const float *src, int w, int x0, int x1, int r, float *restrict dst) {
-  double acc = 0;
-  for (int j = x0 - r < 0 ? 0 : x0 - r; j < x0 + r && j < w; j++) acc += src[j];
-  int a = x0 > r + 1 ? x0 : r + 1, b = x1 < w - r ? x1 : w - r;   /* both ends of the window inside */
-  if (a > x1) a = x1;
-  if (b < a) b = a;
-  int x = x0;
-  for (; x < a; x++) {
-    if (x + r < w) acc += src[x + r];
-    if (x - r - 1 >= 0) acc -= src[x - r - 1];
-    dst[x - x0] = (float)acc;
-  }
-  for (; x < b; x++) {
-    acc += (double)src[x + r] - (double)src[x - r - 1];
-    dst[x - x0] = (float)acc;
-  }
-  for (; x < x1; x++) {
-    if (x + r < w) acc += src[x + r];
-    if (x - r - 1 >= 0) acc -= src[x - r - 1];
+  for (int x = x0; x < x1; x++) {
+    int a = x - r > 0 ? x - r : 0, e = x + r < w - 1 ? x + r : w - 1;
+    double acc = 0;
+    for (int j = a; j <= e; j++) acc += src[j];
     dst[x - x0] = (float)acc;
   }
 }
@@ -469,8 +467,8 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
   if (r <= 0 || nplanes <= 0 || rx0 >= rx1 || ry0 >= ry1) return;
   int hy0 = ry0 - r > 0 ? ry0 - r : 0, hy1 = ry1 + r < h ? ry1 + r : h;   /* rows the windows read */
   int rw = rx1 - rx0, nq = nplanes + (weight != NULL), ring = side + 1;
-  /* the horizontal sums of the last side + 1 rows: a row leaves the column
-  ** sums side rows after it came in, and is overwritten only after that */
+  /* the horizontal sums of the last side + 1 rows: a row is read by the
+  ** boxes of the side rows around it, and overwritten only after that */
   float *hs = xmalloc((size_t)ring * nq * rw * sizeof *hs + 1);
   float *masked = xmalloc((size_t)w * sizeof *masked + 1);          /* a row times its weight */
   double *acc = xcalloc((size_t)nq * rw + 1, sizeof *acc);           /* the column sums */
@@ -479,17 +477,15 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
     int cx = rx0 + x;
     cols[x] = (float)((cx + r < w ? cx + r : w - 1) - (cx - r > 0 ? cx - r : 0) + 1);
   }
-  int next = hy0;   /* the next row to come into the column sums */
+  int next = hy0;   /* the next row whose horizontal sums go into the ring */
   for (int y = ry0; y < ry1; y++) {
-    for (; next <= y + r && next < hy1; next++) {   /* rows in: their sums from the planes as they were */
-      float *slot = hs + (size_t)((next - hy0) % ring) * nq * rw;
-      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, slot);
+    for (; next <= y + r && next < hy1; next++)   /* rows in: their sums from the planes as they were */
+      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, hs + (size_t)((next - hy0) % ring) * nq * rw);
+    int a = y - r > hy0 ? y - r : hy0, e = y + r < hy1 - 1 ? y + r : hy1 - 1;
+    memset(acc, 0, (size_t)nq * rw * sizeof *acc);   /* the column sums of the box's rows, top down */
+    for (int yy = a; yy <= e; yy++) {
+      const float *slot = hs + (size_t)((yy - hy0) % ring) * nq * rw;
       for (size_t i = 0; i < (size_t)nq * rw; i++) acc[i] += slot[i];
-    }
-    int out = y - r - 1;
-    if (out >= hy0) {   /* the row that leaves */
-      const float *slot = hs + (size_t)((out - hy0) % ring) * nq * rw;
-      for (size_t i = 0; i < (size_t)nq * rw; i++) acc[i] -= slot[i];
     }
     float rows = (float)((y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1);
     if (weight) {   /* the box's pixels: weighted ones */

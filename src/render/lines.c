@@ -353,7 +353,19 @@ int line_render_frame(const RenderFrame *f, int threads, Image *target, StrokeLi
       objs[i].lines = &ls[i];
     }
   char err[1200];
-  int ok = line_render(objs, n, &f->camera, target, threads, stats, strokes_out, err, sizeof err);
+  /* a window of the frame (a tile): the strokes of the whole view, drawn
+  ** into the window's pixels */
+  int window = target && (f->win.x0 || f->win.y0 || f->win.x1 != f->width || f->win.y1 != f->height);
+  StrokeList *sl = NULL;
+  int ok = line_render(objs, n, &f->camera, window ? NULL : target, threads, stats,
+                       window ? &sl : strokes_out, err, sizeof err);
+  if (ok && window) {
+    double t0 = now_seconds();
+    stroke_render_at(sl, target, f->win.x0, f->win.y0, threads);
+    stats_record("lines draw", now_seconds() - t0);
+    if (strokes_out) *strokes_out = sl;
+    else stroke_list_free(sl);
+  }
   if (!ok) {
     SrcRange at = src_none();
     for (int i = 0; i < n; i++)

@@ -50,7 +50,8 @@ static int seen_from_below(const Mat4 *c, Vec2 centre, int width, int height) {
 
 typedef struct Ctx {
   const OrigamiModel *m;
-  int width, height;
+  int width, height;         /* the planes: a window of the frame */
+  int ox, oy, fw, fh;        /* the frame pixel of the planes' first; the frame's size */
   ScreenVert *sv;            /* per vertex */
   int from_below;
   int32_t *fid, *tid;        /* face and triangle at each pixel, -1 empty */
@@ -59,10 +60,15 @@ typedef struct Ctx {
 static void ctx_project(Ctx *c, const Mat4 *object_to_clip) {
   const OrigamiModel *m = c->m;
   c->sv = xmalloc((size_t)(m->nverts ? m->nverts : 1) * sizeof *c->sv);
-  for (int v = 0; v < m->nverts; v++) c->sv[v] = project(object_to_clip, m->folded[v], c->width, c->height);
+  if (c->fw <= 0) c->fw = c->width, c->fh = c->height;
+  for (int v = 0; v < m->nverts; v++) c->sv[v] = project(object_to_clip, m->folded[v], c->fw, c->fh);
   Vec2 centre = {(m->fold_min.x + m->fold_max.x) / 2, (m->fold_min.y + m->fold_max.y) / 2};
-  c->from_below = seen_from_below(object_to_clip, centre, c->width, c->height);
+  c->from_below = seen_from_below(object_to_clip, centre, c->fw, c->fh);
 }
+
+/* The frame position of the centre of window pixel (x, y). */
+#define PX(c, x) ((float)((x) + (c)->ox) + 0.5f)
+#define PY(c, y) ((float)((y) + (c)->oy) + 0.5f)
 
 /* Face i lies over face j for this viewer. */
 static int over(const Ctx *c, int i, int j) {
@@ -98,11 +104,11 @@ static void raster_tri(Ctx *c, int t, int f) {
   int64_t ymin = y[0], ymax = y[0];
   for (int k = 1; k < 3; k++) ymin = ymin < y[k] ? ymin : y[k], ymax = ymax > y[k] ? ymax : y[k];
   int row0 = (int)floor_div(ymin, SUBPIX), row1 = (int)floor_div(ymax, SUBPIX);
-  if (row0 < 0) row0 = 0;
-  if (row1 > c->height - 1) row1 = c->height - 1;
+  if (row0 < c->oy) row0 = c->oy;                            /* frame rows, cut to the window */
+  if (row1 > c->oy + c->height - 1) row1 = c->oy + c->height - 1;
   for (int row = row0; row <= row1; row++) {
     int64_t py = (int64_t)row * SUBPIX + SUBPIX / 2;
-    int64_t lo = 0, hi = c->width - 1;
+    int64_t lo = c->ox, hi = c->ox + c->width - 1;
     for (int e = 0; e < 3 && lo <= hi; e++) {
       int a = e, b = (e + 1) % 3;
       int64_t dx = x[b] - x[a], dy = y[b] - y[a];
@@ -118,12 +124,13 @@ static void raster_tri(Ctx *c, int t, int f) {
         if (xm < hi) hi = xm;
       } else if (beta < 0) lo = hi + 1;
     }
-    int32_t *fr = c->fid + (size_t)row * c->width, *tr = c->tid + (size_t)row * c->width;
+    int32_t *fr = c->fid + (size_t)(row - c->oy) * c->width, *tr = c->tid + (size_t)(row - c->oy) * c->width;
     for (int64_t px = lo; px <= hi; px++) {
-      int32_t cur = fr[px];
+      int64_t i = px - c->ox;                                /* frame column to window column */
+      int32_t cur = fr[i];
       if (cur >= 0 && (cur == f || !over(c, f, cur))) continue;   /* §5.1: only over a lower face */
-      fr[px] = f;
-      tr[px] = t;
+      fr[i] = f;
+      tr[i] = t;
     }
   }
 }
@@ -432,7 +439,7 @@ static unsigned char *shown_pixels(const Ctx *c, const TriSetup *ts, const float
     for (int x = 0; x < w; x++) {
       size_t p = (size_t)y * w + x;
       shown[p] = c->fid[p] >= 0;
-      if (shown[p] && depth) shown[p] = tri_depth_at(&ts[c->tid[p]], x + 0.5f, y + 0.5f) < depth[p];
+      if (shown[p] && depth) shown[p] = tri_depth_at(&ts[c->tid[p]], PX(c, x), PY(c, y)) < depth[p];
     }
   return shown;
 }
@@ -449,7 +456,7 @@ static int line_shown(const Ctx *c, const TriSetup *ts, const unsigned char *sho
   for (int v = y - reach < 0 ? 0 : y - reach; v <= y + reach && v < h; v++)
     for (int u = x - reach < 0 ? 0 : x - reach; u <= x + reach && u < w; u++) {
       size_t q = (size_t)v * w + u;
-      if (c->fid[q] >= 0 && tri_depth_at(&ts[c->tid[q]], u + 0.5f, v + 0.5f) < depth[p]) return 1;
+      if (c->fid[q] >= 0 && tri_depth_at(&ts[c->tid[q]], PX(c, u), PY(c, v)) < depth[p]) return 1;
     }
   return 0;
 }
@@ -612,7 +619,7 @@ static void paint_pixel(const Paint *pt, const Ctx *c, int x, int y, OrigamiTarg
     return;
   }
   float b[3], depth;
-  tri_bary(&pt->ts[tri], x + 0.5f, y + 0.5f, b, &depth);
+  tri_bary(&pt->ts[tri], PX(c, x), PY(c, y), b, &depth);
   if (t->depth) t->depth[p] = depth;
   const float *col = pt->s->color;
   float base[3] = {col[0], col[1], col[2]};                  /* display values */
@@ -646,7 +653,8 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
                     const Image *texture, OrigamiTarget *t) {
   int w = t->width, h = t->height;
   size_t n = (size_t)w * (size_t)h;
-  Ctx c = {.m = m, .width = w, .height = h};
+  Ctx c = {.m = m, .width = w, .height = h, .ox = t->x0, .oy = t->y0, .fw = t->full_width,
+           .fh = t->full_height};
   c.fid = xmalloc(n * sizeof *c.fid);
   c.tid = xmalloc(n * sizeof *c.tid);
   ctx_project(&c, object_to_clip);
@@ -690,6 +698,23 @@ void origami_world_bounds(const OrigamiModel *m, const Mat4 *transform, Vec3 *bm
     *bmin = v3(fmin(bmin->x, q.x), fmin(bmin->y, q.y), fmin(bmin->z, q.z));
     *bmax = v3(fmax(bmax->x, q.x), fmax(bmax->y, q.y), fmax(bmax->z, q.z));
   }
+}
+
+int origami_margin(const Scene *s, double pixel_scale) {
+  SceneStyle fallback = scene_default_style();
+  int most = 0;
+  for (int i = 0; i < s->norigami; i++) {
+    const SceneOrigami *o = &s->origami[i];
+    Shading sh = shading_of(o->style >= 0 && o->style < s->nstyles ? &s->styles[o->style] : &fallback,
+                            pixel_scale);
+    /* a pixel's disk sum reads the face ids within the radius; its line, the
+    ** Sobel filter's neighbours (1) of the pixels the line grows over, and
+    ** the nearest paper beside it (1) */
+    int grow = (int)lround((sh.line_width - 2) / 2), r = sh.mode == 2 ? (int)lround(sh.radius) : 0;
+    int need = r + (grow > 0 ? grow : 0) + 3;
+    if (need > most) most = need;
+  }
+  return most;
 }
 
 int origami_draw_scene(const Scene *s, const Mat4 *world_to_clip, OrigamiTarget *t) {

@@ -55,6 +55,9 @@ typedef struct OrigamiTarget {
                            writes its own depth there */
   double pixel_scale;   /* buffer pixels per output pixel (the N of `samples N`):
                            scales the disk radius; 0 means 1 */
+  int x0, y0;           /* a window of a larger frame (a tile): the frame pixel the
+                           planes' first pixel is; 0, 0 for the whole frame */
+  int full_width, full_height;   /* that frame's size (0: width x height) */
 } OrigamiTarget;
 
 /* Draw one origami block. object_to_clip = world_to_clip * the block's
@@ -68,6 +71,10 @@ typedef struct OrigamiTarget {
 ** an image on the paper's front (NULL: none), mapped over the paper's
 ** bounding box, +y up. A camera below the paper (seeing -z) sees the
 ** relation reversed and the faces' other sides.
+** A window (t->x0, t->y0, t->full_width) draws what the whole frame has
+** at its pixels, but for those within the disk radius and a line's width
+** (plus 2 pixels) of a window edge that is not the frame's: the caller
+** gives the window that margin and keeps the inside (origami_margin).
 ** Returns the number of pixels the origami covers. */
 long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *object_to_clip,
                     const Image *texture, OrigamiTarget *t);
@@ -80,6 +87,11 @@ long origami_render(const OrigamiModel *m, const SceneStyle *style, const Mat4 *
 ** set, so it composes with meshes drawn before). Returns 1, or 0 when a
 ** block or a texture failed (its diagnostics reported at the block). */
 int origami_draw_scene(const Scene *s, const Mat4 *world_to_clip, OrigamiTarget *t);
+
+/* The margin in buffer pixels a window of scene s needs around the pixels
+** it keeps (see origami_render): the largest disk radius and line growth
+** of its origami blocks' styles at pixel_scale, plus 3. */
+int origami_margin(const Scene *s, double pixel_scale);
 
 /* Only the face-ID buffer: ids[width * height] (set to -1 first), faces
 ** drawn in the given order (order: nfaces face ids; NULL = 0, 1, 2 ...).

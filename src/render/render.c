@@ -30,6 +30,7 @@
 #include "screentex.h"
 #include "shade.h"
 #include "stats.h"
+#include "tile.h"
 
 /* ---- sizes and limits ------------------------------------------------------ */
 
@@ -69,7 +70,7 @@ static int check_limits(const Scene *s, int w, int h, int n) {
   return 1;
 }
 
-static int thread_count(const RenderOptions *o) {
+int render_thread_count(const RenderOptions *o) {
   if (o->threads > 0) return o->threads;
   long n = sysconf(_SC_NPROCESSORS_ONLN);
   return n > 0 ? (int)n : 1;
@@ -457,6 +458,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   if (w <= 0 || h <= 0) render_resolve_size(s, w, h, &w, &h);
   f->width = w;
   f->height = h;
+  f->win = (RenderWindow){0, 0, w, h};
   f->samples = o->samples > 0 ? o->samples : s->output.samples > 0 ? s->output.samples : 1;
   f->antialias = s->output.antialias && !o->aliased;
   f->background = s->output.background;
@@ -472,7 +474,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
   if (!prepare_styles(s, f) || !check_triangles(s)) return 0;
   double t1 = stats_now();
   int refit = !s->camera.present && f->camera.kind == CAMERA_PERSPECTIVE;
-  int ok = prepare_objects(s, f, thread_count(o), refit);
+  int ok = prepare_objects(s, f, render_thread_count(o), refit);
   double t2 = stats_now();
   double retess = 0;
   if (refit) {
@@ -534,6 +536,8 @@ typedef struct Bins {
   RastTriList *lists;
   TileBox **boxes;             /* per list, parallel to it */
   int tiles_x, tiles_y, side;  /* tile side in samples */
+  int tx0, ty0, tx1, ty1;      /* the tiles the frame's window touches, [tx0, tx1) x [ty0, ty1):
+                                  only these are binned */
   int *start;
   int *nfront;                 /* per tile: its bin's front-facing triangles come first */
   uint32_t *items;
@@ -567,6 +571,8 @@ typedef struct SetupJob {
   const RenderFrame *f;
   int gw, gh, side;            /* sample grid; tile side in samples */
   int apron;                   /* samples a tile's bin reaches around it */
+  int wx0, wy0, wx1, wy1;      /* the samples of the frame's window: triangles wholly
+                                  outside it (and its apron) are not set up */
   RastVert **verts;            /* per object */
   SetupChunk *chunks;
   RastTriList *lists;          /* per triangle chunk */
@@ -585,6 +591,24 @@ static void project_chunk(void *ctx, int k) {
   }
 }
 
+/* Is a triangle none of whose vertices needs clipping wholly outside the
+** window and its apron (a sample's margin more for the fill rule)?
+** Leaving it out changes no sample the window's tiles draw: the bins keep
+** the others in order. */
+static int outside_window(const SetupJob *job, const RastVert *const tv[3]) {
+  if (job->wx0 == 0 && job->wy0 == 0 && job->wx1 == job->gw && job->wy1 == job->gh) return 0;
+  if (tv[0]->outcode | tv[1]->outcode | tv[2]->outcode) return 0;
+  int64_t x0 = tv[0]->X, x1 = x0, y0 = tv[0]->Y, y1 = y0;
+  for (int k = 1; k < 3; k++) {
+    x0 = tv[k]->X < x0 ? tv[k]->X : x0, x1 = tv[k]->X > x1 ? tv[k]->X : x1;
+    y0 = tv[k]->Y < y0 ? tv[k]->Y : y0, y1 = tv[k]->Y > y1 ? tv[k]->Y : y1;
+  }
+  /* fixed point to samples (an arithmetic shift floors), widened by one */
+  int g = job->apron + 1;
+  return (x1 >> RAST_SUBPIXEL_BITS) + g < job->wx0 || (x0 >> RAST_SUBPIXEL_BITS) - g >= job->wx1 ||
+         (y1 >> RAST_SUBPIXEL_BITS) + g < job->wy0 || (y0 >> RAST_SUBPIXEL_BITS) - g >= job->wy1;
+}
+
 static void emit_chunk(void *ctx, int k) {
   SetupJob *job = ctx;
   const SetupChunk *c = &job->chunks[k];
@@ -597,6 +621,7 @@ static void emit_chunk(void *ctx, int k) {
   for (int t = c->start; t < c->end; t++) {
     if (o->cull_back && o->backfacing[t]) continue;   /* hidden by the object's front */
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
+    if (outside_window(job, tv)) continue;
     rast_emit(list, tv, c->object, t, job->gw, job->gh);
   }
   TileBox *box = job->boxes[k] = xmalloc(((size_t)list->n + 1) * sizeof *box);
@@ -635,7 +660,9 @@ static int make_chunks(const RenderFrame *f, int tris, SetupChunk **out) {
 /* Project every vertex of every object and set up its triangles for a
 ** gw x gh sample grid, on nthreads threads, into b's lists. */
 static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, Bins *b) {
-  SetupJob job = {f, gw, gh, b->side, b->apron, NULL, NULL, NULL, NULL};
+  int N = f->samples;
+  SetupJob job = {f, gw, gh, b->side, b->apron, f->win.x0 * N, f->win.y0 * N, f->win.x1 * N, f->win.y1 * N,
+                  NULL, NULL, NULL, NULL};
   job.verts = xcalloc((size_t)f->nobjects + 1, sizeof *job.verts);
   for (int i = 0; i < f->nobjects; i++)
     job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
@@ -674,8 +701,10 @@ static void bin_triangles(Bins *b) {
       for (int i = 0; i < b->lists[l].n; i++) {
         TileBox t = b->boxes[l][i];
         uint32_t item = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
-        for (int ty = t.ty0; ty <= t.ty1; ty++)
-          for (int tx = t.tx0; tx <= t.tx1; tx++) {
+        int ty0 = t.ty0 > b->ty0 ? t.ty0 : b->ty0, ty1 = t.ty1 < b->ty1 - 1 ? t.ty1 : b->ty1 - 1;
+        int tx0 = t.tx0 > b->tx0 ? t.tx0 : b->tx0, tx1 = t.tx1 < b->tx1 - 1 ? t.tx1 : b->tx1 - 1;
+        for (int ty = ty0; ty <= ty1; ty++)
+          for (int tx = tx0; tx <= tx1; tx++) {
             int k = ty * b->tiles_x + tx;
             if (!pass) {
               b->start[k + 1]++;
@@ -715,8 +744,14 @@ static void bins_free(Bins *b, int nobjects) {
 typedef struct TileJob {
   const RenderFrame *f;
   const Bins *bins;
-  GBuffer *full;               /* whole G-buffer, or NULL: per-worker tile planes */
+  GBuffer *full;               /* the window's G-buffer, or NULL: per-worker tile planes */
   Image *out;
+  int ox, oy;                  /* the frame pixel out's first pixel shows */
+  int y0, y1;                  /* the frame rows this run shades, inside the window */
+  int ty0, ntiles;             /* their first tile row; their tiles (of the window's columns) */
+  const RenderProgress *progress;
+  int progress_total;          /* with progress: the window's tiles, over every run */
+  atomic_int done;             /* with progress: tiles shaded so far */
   ShadeSpanFn *span;           /* per style: its model's span shader */
   ShadeView view;              /* the camera as the rebuild needs it */
   atomic_int next;
@@ -757,26 +792,29 @@ typedef struct Tile {
   int x0, y0, x1, y1;
 } Tile;
 
-/* The target for tile (tx, ty): the whole G-buffer's planes, or the
-** worker's own, with the rectangle cleared to the background when clear
-** is set. */
+/* The target for tile (tx, ty), cut to the window's columns and the run's
+** rows: the window's G-buffer's planes, or the worker's own, with the
+** rectangle cleared to the background when clear is set. */
 static Tile tile_target(Worker *w, int tx, int ty, int clear) {
-  const Bins *b = w->job->bins;
-  GBuffer *g = w->job->bins->apron ? NULL : w->job->full;   /* antialiased: copied to it after */
+  const TileJob *job = w->job;
+  const Bins *b = job->bins;
+  GBuffer *g = b->apron ? NULL : job->full;   /* antialiased: copied to it after */
   Tile tl;
   RastTarget rt = {0};
-  int gw = w->job->f->width * w->job->f->samples, gh = w->job->f->height * w->job->f->samples;
+  int N = job->f->samples, gw = job->f->width * N, gh = job->f->height * N;
+  int wx0 = job->f->win.x0 * N, wx1 = job->f->win.x1 * N, wy0 = job->y0 * N, wy1 = job->y1 * N;
   int a = b->apron;
-  tl.x0 = tx * b->side;
-  tl.y0 = ty * b->side;
-  tl.x1 = tl.x0 + b->side < gw ? tl.x0 + b->side : gw;
-  tl.y1 = tl.y0 + b->side < gh ? tl.y0 + b->side : gh;
+  tl.x0 = tx * b->side > wx0 ? tx * b->side : wx0;
+  tl.y0 = ty * b->side > wy0 ? ty * b->side : wy0;
+  tl.x1 = (tx + 1) * b->side < wx1 ? (tx + 1) * b->side : wx1;
+  tl.y1 = (ty + 1) * b->side < wy1 ? (ty + 1) * b->side : wy1;
   rt.x0 = tl.x0 - a > 0 ? tl.x0 - a : 0;
   rt.y0 = tl.y0 - a > 0 ? tl.y0 - a : 0;
   rt.x1 = tl.x1 + a < gw ? tl.x1 + a : gw;
   rt.y1 = tl.y1 + a < gh ? tl.y1 + a : gh;
   if (g) {
-    rt.ox = rt.oy = 0;
+    rt.ox = job->f->win.x0 * N;
+    rt.oy = job->f->win.y0 * N;
     rt.stride = g->width;
     rt.depth = g->depth; rt.object = g->object; rt.face = g->face; rt.bary = g->bary;
   } else {
@@ -840,14 +878,14 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, i
 ** image) the worker's row, which put_row then encodes into it. */
 static float *row_out(const TileJob *job, int x0, int y, float *prow) {
   const Image *img = job->out;
-  return img->data ? &img->data[((size_t)y * img->width + x0) * img->channels] : prow;
+  size_t at = ((size_t)(y - job->oy) * img->width + (size_t)(x0 - job->ox)) * img->channels;
+  return img->data ? &img->data[at] : prow;
 }
 
 static void put_row(const TileJob *job, int x0, int y, int n, const float *prow) {
   const Image *img = job->out;
-  if (!img->data)
-    image_encode8(prow, &img->data8[((size_t)y * img->width + x0) * img->channels], (size_t)n,
-                  img->channels);
+  size_t at = ((size_t)(y - job->oy) * img->width + (size_t)(x0 - job->ox)) * img->channels;
+  if (!img->data) image_encode8(prow, &img->data8[at], (size_t)n, img->channels);
 }
 
 /* Does a sample of object obj encode as the background's codes: the
@@ -875,7 +913,7 @@ static void shade_tile_1(const TileJob *job, const RastTarget *rt, int empty, Sh
   }
   for (int y = rt->y0; y < rt->y1; y++) {
     int i = (y - rt->oy) * rt->stride + (rt->x0 - rt->ox);
-    size_t at = ((size_t)y * img->width + rt->x0) * nc;
+    size_t at = ((size_t)(y - job->oy) * img->width + (size_t)(rt->x0 - job->ox)) * nc;
     if (!img->data8) {
       if (empty)
         for (int k = 0; k < n * nc; k++) img->data[at + k] = bgu[k % nc];
@@ -998,12 +1036,13 @@ static void shade_tile_aa(const TileJob *job, const Tile *tl, Worker *w) {
 /* Antialiased with a whole G-buffer kept: the tile's samples, drawn in
 ** the worker's planes, go into it (face -1 and bary 0 on the
 ** background, as a kept G-buffer shows them). */
-static void copy_tile(GBuffer *g, const Tile *tl) {
+static void copy_tile(GBuffer *g, const RenderFrame *f, const Tile *tl) {
   const RastTarget *rt = &tl->rt;
+  int gx0 = f->win.x0 * f->samples, gy0 = f->win.y0 * f->samples;   /* the window's first sample */
   for (int y = tl->y0; y < tl->y1; y++)
     for (int x = tl->x0; x < tl->x1; x++) {
       int i = (y - rt->oy) * rt->stride + (x - rt->ox);
-      size_t j = (size_t)y * g->width + x;
+      size_t j = (size_t)(y - gy0) * g->width + (size_t)(x - gx0);
       int drawn = rt->object[i] >= 0;
       g->depth[j] = rt->depth[i];
       g->object[j] = rt->object[i];
@@ -1059,25 +1098,30 @@ static void raster_items(const Bins *b, int i0, int i1, float far, int boxes, Ra
   }
 }
 
-/* Hand job->rows every band from the first not yet handed over that is
-** wholly shaded (band_left 0: the last decrement of each came after its
-** pixels were written). The caller holds band_lock or is alone. */
+/* Hand job->rows every band (a tile row of the run) from the first not yet
+** handed over that is wholly shaded (band_left 0: the last decrement of
+** each came after its pixels were written). The caller holds band_lock or
+** is alone. */
 static void hand_bands(TileJob *job) {
-  int tiles_y = job->bins->tiles_y, h = job->f->height;
-  for (; job->next_band < tiles_y && atomic_load(&job->band_left[job->next_band]) == 0;
-       job->next_band++) {
-    int y0 = job->next_band * RENDER_TILE, y1 = y0 + RENDER_TILE < h ? y0 + RENDER_TILE : h;
-    job->rows->rows(job->rows->ctx, job->out, y0, y1);
+  int nbands = (job->y1 - 1) / RENDER_TILE - job->ty0 + 1;
+  for (; job->next_band < nbands && atomic_load(&job->band_left[job->next_band]) == 0; job->next_band++) {
+    int y0 = (job->ty0 + job->next_band) * RENDER_TILE, y1 = y0 + RENDER_TILE;
+    y0 = y0 > job->y0 ? y0 : job->y0;
+    y1 = y1 < job->y1 ? y1 : job->y1;
+    const Image *img = job->out;   /* the band's rows of out */
+    Image band = {img->width, y1 - y0, img->channels, NULL,
+                  img->data8 + (size_t)(y0 - job->oy) * img->width * img->channels};
+    job->rows->rows(job->rows->ctx, &band, y0 - job->oy, y1 - job->oy);
   }
 }
 
-/* A tile of row ty is shaded. When that completes the row's band, hand
-** the finished bands over, unless another worker is already doing so: it
-** then goes back to tiles, and the band is taken by the busy worker's
-** loop, the next band finished, or run_workers after the pass. */
-static void tile_done(Worker *w, int ty) {
+/* A tile of the run's band `band` is shaded. When that completes the
+** band, hand the finished bands over, unless another worker is already
+** doing so: it then goes back to tiles, and the band is taken by the busy
+** worker's loop, the next band finished, or run_workers after the pass. */
+static void tile_done(Worker *w, int band) {
   TileJob *job = w->job;
-  if (atomic_fetch_sub(&job->band_left[ty], 1) != 1) return;
+  if (atomic_fetch_sub(&job->band_left[band], 1) != 1) return;
   if (pthread_mutex_trylock(&job->band_lock) != 0) return;
   double t0 = stats_now();
   hand_bands(job);
@@ -1085,31 +1129,47 @@ static void tile_done(Worker *w, int ty) {
   w->write_s += stats_now() - t0;
 }
 
+/* Count a shaded tile for the progress report (the worker that brings the
+** count to a new value reports it; reports may arrive out of order by a
+** tile or two, never at once). */
+static void tile_progress(TileJob *job) {
+  if (!job->progress) return;
+  int done = atomic_fetch_add(&job->done, 1) + 1;
+  job->progress->tiles(job->progress->ctx, done, job->progress_total);
+}
+
 static void *tile_worker(void *arg) {
   Worker *w = arg;
   TileJob *job = w->job;
   const Bins *b = job->bins;
-  int ntiles = b->tiles_x * b->tiles_y;
+  int ncols = b->tx1 - b->tx0;
   for (;;) {
     int k = atomic_fetch_add(&job->next, 1);
-    if (k >= ntiles) break;
+    if (k >= job->ntiles) break;
     double t0 = stats_now();
+    int band = k / ncols, tx = b->tx0 + k % ncols, ty = job->ty0 + band, bin = ty * b->tiles_x + tx;
     /* a tile no triangle touches, one sample a pixel, no G-buffer kept:
     ** the background, without clearing planes to read them back */
-    int empty = b->start[k] == b->start[k + 1] && job->f->samples == 1 && !job->full;
-    Tile tl = tile_target(w, k % b->tiles_x, k / b->tiles_x, !empty);
+    int empty = b->start[bin] == b->start[bin + 1] && job->f->samples == 1 && !job->full;
+    Tile tl = tile_target(w, tx, ty, !empty);
     RastTarget *rt = &tl.rt;
-    int first_back = b->start[k] + b->nfront[k];
-    raster_items(b, b->start[k], first_back, INFINITY, 0, rt);
-    if (first_back < b->start[k + 1])   /* behind all the front faces drawn: skipped */
-      raster_items(b, first_back, b->start[k + 1], tile_far(rt), 1, rt);
+    int first_back = b->start[bin] + b->nfront[bin];
+    raster_items(b, b->start[bin], first_back, INFINITY, 0, rt);
+    if (first_back < b->start[bin + 1])   /* behind all the front faces drawn: skipped */
+      raster_items(b, first_back, b->start[bin + 1], tile_far(rt), 1, rt);
     double t1 = stats_now();
-    if (b->apron && job->full) copy_tile(job->full, &tl);
-    if (b->apron && !empty) shade_tile_aa(job, &tl, w);
-    else shade_tile(job, rt, empty, w->rows, &w->row, w->prow);
+    if (b->apron && job->full) copy_tile(job->full, job->f, &tl);
+    if (b->apron && !empty) {
+      shade_tile_aa(job, &tl, w);
+    } else {   /* the tile's own samples (an empty tile's apron is its neighbours' to write) */
+      RastTarget own = *rt;
+      own.x0 = tl.x0, own.y0 = tl.y0, own.x1 = tl.x1, own.y1 = tl.y1;
+      shade_tile(job, &own, empty, w->rows, &w->row, w->prow);
+    }
     w->raster_s += t1 - t0;
     w->shade_s += stats_now() - t1;
-    if (job->rows) tile_done(w, k / b->tiles_x);
+    if (job->rows) tile_done(w, band);
+    tile_progress(job);
   }
   return NULL;
 }
@@ -1181,29 +1241,61 @@ static void run_workers(TileJob *job, int nthreads) {
   free(tid);
 }
 
-void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
-                  GBuffer **gbuf_out) {
+/* The tile pass of a frame's window: its triangles set up and binned once,
+** then shaded a run of rows at a time. */
+struct RenderPass {
+  const RenderFrame *f;
+  Bins bins;
+  int nthreads;
+  const RenderProgress *progress;
+  int done, total;             /* with progress: tiles shaded by earlier runs; all of them */
+};
+
+RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o) {
   int N = f->samples, gw = f->width * N, gh = f->height * N;
   double t0 = stats_now();
-  int nthreads = thread_count(o);
-  Bins bins = {0};
-  bins.side = RENDER_TILE * N;
-  bins.apron = f->antialias;
-  setup_triangles(f, gw, gh, nthreads, &bins);
-  bins.tiles_x = (gw + bins.side - 1) / bins.side;
-  bins.tiles_y = (gh + bins.side - 1) / bins.side;
-  bin_triangles(&bins);
-  double t1 = stats_now();
+  RenderPass *p = xcalloc(1, sizeof *p);
+  p->f = f;
+  p->nthreads = render_thread_count(o);
+  p->progress = o->progress;
+  Bins *b = &p->bins;
+  b->side = RENDER_TILE * N;
+  b->apron = f->antialias;
+  setup_triangles(f, gw, gh, p->nthreads, b);
+  b->tiles_x = (gw + b->side - 1) / b->side;
+  b->tiles_y = (gh + b->side - 1) / b->side;
+  b->tx0 = f->win.x0 / RENDER_TILE;
+  b->ty0 = f->win.y0 / RENDER_TILE;
+  b->tx1 = (f->win.x1 + RENDER_TILE - 1) / RENDER_TILE;
+  b->ty1 = (f->win.y1 + RENDER_TILE - 1) / RENDER_TILE;
+  bin_triangles(b);
+  p->total = (b->tx1 - b->tx0) * (b->ty1 - b->ty0);
   long long nset = 0;
-  for (int l = 0; l < bins.nlists; l++) nset += bins.lists[l].n;
-  stats_record("setup", t1 - t0);
+  for (int l = 0; l < b->nlists; l++) nset += b->lists[l].n;
+  stats_record("setup", stats_now() - t0);
   stats_record_count("setup", "raster triangles", nset);
+  return p;
+}
 
+void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Image *out, GBuffer **gbuf_out) {
+  const RenderFrame *f = p->f;
+  int N = f->samples;
+  double t1 = stats_now();
   TileJob job;
   memset(&job, 0, sizeof job);
   job.f = f;
-  job.bins = &bins;
+  job.bins = &p->bins;
   job.out = out;
+  job.ox = f->win.x0;
+  job.oy = y0;
+  job.y0 = y0;
+  job.y1 = y1;
+  job.ty0 = y0 / RENDER_TILE;
+  int nbands = (y1 - 1) / RENDER_TILE - job.ty0 + 1, ncols = p->bins.tx1 - p->bins.tx0;
+  job.ntiles = nbands * ncols;
+  job.progress = p->progress;
+  job.progress_total = p->total;
+  atomic_init(&job.done, p->done);
   job.view.ortho = f->camera.kind == CAMERA_ORTHO;
   set3(job.view.eye, f->camera.eye);
   set3(job.view.back, v3_mul(f->camera.forward, -1));
@@ -1215,17 +1307,17 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
   atomic_init(&job.next, 0);
   if (rows) {
     job.rows = rows;
-    job.band_left = xmalloc((size_t)bins.tiles_y * sizeof *job.band_left);
-    for (int ty = 0; ty < bins.tiles_y; ty++) atomic_init(&job.band_left[ty], bins.tiles_x);
+    job.band_left = xmalloc((size_t)nbands * sizeof *job.band_left);
+    for (int k = 0; k < nbands; k++) atomic_init(&job.band_left[k], ncols);
     pthread_mutex_init(&job.band_lock, NULL);
   }
-  if (gbuf_out) {
-    job.full = gbuf_create(f->width, f->height, N);
-    job.full->camera = camera_scaled(&f->camera, gw, gh);
+  if (gbuf_out) {   /* the window's samples, seen by the frame's camera at sample resolution */
+    job.full = gbuf_create(f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, N);
+    job.full->camera = camera_scaled(&f->camera, f->width * N, f->height * N);
   }
-  if (bins.apron) aa_frame_init(&job.aa, f, bins.verts);
-  int ntiles = bins.tiles_x * bins.tiles_y;
-  run_workers(&job, nthreads < ntiles ? nthreads : ntiles);
+  if (p->bins.apron) aa_frame_init(&job.aa, f, p->bins.verts);
+  run_workers(&job, p->nthreads < job.ntiles ? p->nthreads : job.ntiles);
+  p->done += job.ntiles;
   stats_record("raster+shade", stats_now() - t1);
   if (gbuf_out) *gbuf_out = job.full;
   if (rows) {
@@ -1234,8 +1326,20 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
     pthread_mutex_destroy(&job.band_lock);
   }
   free(job.span);
-  if (bins.apron) aa_frame_free(&job.aa);
-  bins_free(&bins, f->nobjects);
+  if (p->bins.apron) aa_frame_free(&job.aa);
+}
+
+void render_pass_end(RenderPass *p) {
+  if (!p) return;
+  bins_free(&p->bins, p->f->nobjects);
+  free(p);
+}
+
+void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
+                  GBuffer **gbuf_out) {
+  RenderPass *p = render_pass_begin(f, o);
+  render_pass_run(p, f->win.y0, f->win.y1, rows, out, gbuf_out);
+  render_pass_end(p);
 }
 
 /* ---- origami sheets (Mitani's method, render/origami.h) ------------------------ */
@@ -1246,25 +1350,29 @@ void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows
 ** FOLD file's faces_vertices indices for an imported file). Returns 0 after
 ** a diagnostic. */
 static int composite_origami(const Scene *s, const RenderFrame *f, Image *out, GBuffer *g) {
-  int N = f->samples, gw = f->width * N, gh = f->height * N;
+  int N = f->samples, ww = f->win.x1 - f->win.x0, wh = f->win.y1 - f->win.y0, gw = ww * N, gh = wh * N;
   size_t n = (size_t)gw * gh;
   OrigamiTarget t;
   memset(&t, 0, sizeof t);
-  t.width = gw;
+  t.width = gw;   /* the window's samples of the frame's */
   t.height = gh;
+  t.x0 = f->win.x0 * N;
+  t.y0 = f->win.y0 * N;
+  t.full_width = f->width * N;
+  t.full_height = f->height * N;
   t.rgba = xcalloc(n * 4, sizeof *t.rgba);
   t.face_id = xmalloc(n * sizeof *t.face_id);
   for (size_t i = 0; i < n; i++) t.face_id[i] = GBUF_NO_ID;
   t.depth = g->depth;
   t.pixel_scale = N;
-  Camera cam = camera_scaled(&f->camera, gw, gh);
+  Camera cam = camera_scaled(&f->camera, t.full_width, t.full_height);
   int ok = origami_draw_scene(s, &cam.world_to_clip, &t);
   for (size_t i = 0; i < n; i++)
     if (t.face_id[i] != GBUF_NO_ID) { g->object[i] = f->nobjects; g->face[i] = t.face_id[i]; }
   int ch = out->channels;
   float inv = 1.0f / (float)(N * N);
-  for (int y = 0; y < f->height; y++)
-    for (int x = 0; x < f->width; x++) {
+  for (int y = 0; y < wh; y++)
+    for (int x = 0; x < ww; x++) {
       float p[3] = {0, 0, 0}, a = 0;   /* premultiplied average over the N x N samples */
       for (int sy = 0; sy < N; sy++)
         for (int sx = 0; sx < N; sx++) {
@@ -1274,7 +1382,7 @@ static int composite_origami(const Scene *s, const RenderFrame *f, Image *out, G
         }
       a *= inv;
       if (a <= 0) continue;
-      float *o = out->data + ((size_t)y * f->width + x) * ch;
+      float *o = out->data + ((size_t)y * ww + x) * ch;
       float under = ch == 4 ? o[3] : 1, alpha = a + under * (1 - a);
       for (int k = 0; k < 3; k++) o[k] = (p[k] * inv + o[k] * under * (1 - a)) / alpha;
       if (ch == 4) o[3] = alpha;
@@ -1285,6 +1393,53 @@ static int composite_origami(const Scene *s, const RenderFrame *f, Image *out, G
 }
 
 /* ---- entry points ------------------------------------------------------------ */
+
+int render_stages(const Scene *s, const RenderOptions *o, RenderFrame *f, int canvas, Image **out,
+                  GBuffer **gbuf_out) {
+  /* RGB over an opaque background (smaller, and PNG encodes it faster);
+  ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
+  ** they finish each row, unless origami sheets or the canvas (both in
+  ** float) come over it */
+  int nc = f->background.a >= 1 ? 3 : 4, ww = f->win.x1 - f->win.x0, wh = f->win.y1 - f->win.y0;
+  double t0 = stats_now();
+  if (o->out8 && s->norigami == 0 && !canvas) {
+    /* the tile pass writes every byte: no clearing, and each page is first
+    ** touched by the worker filling it (clearing and faulting the pages in
+    ** here cost ~3 ms at 1080p, alone) */
+    *out = image_create8_unset(ww, wh, nc);
+  } else if (canvas && s->norigami == 0) {
+    *out = image_create_unset(ww, wh, nc);   /* every value written, as above */
+  } else {
+    *out = image_create(ww, wh, nc);
+    mem_advise_huge((*out)->data, (size_t)ww * wh * nc * sizeof(float));
+  }
+  stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
+  /* an 8-bit frame nothing is drawn over goes to its file while the pass runs */
+  const RenderRows *rows = o->rows && (*out)->data8 && !canvas && !line_frame_draws(f) ? o->rows : NULL;
+  if (rows && !rows->begin(rows->ctx, *out)) rows = NULL;
+  /* origami composes with meshes through the sample depths, and the canvas
+  ** reads the ink objects' samples: both need the G-buffer */
+  GBuffer *gbuf = NULL;
+  render_frame(f, o, rows, *out, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
+  if (gbuf_out) *gbuf_out = gbuf;
+  int ok = 1;
+  if (s->norigami > 0) {
+    double t1 = stats_now();
+    ok = composite_origami(s, f, *out, gbuf);
+    stats_record("origami", stats_now() - t1);
+  }
+  if (ok && canvas) ok = canvas_paint(s, f, gbuf, out, o->out8);
+  if (!gbuf_out) gbuf_destroy(gbuf);
+  /* lines (src/render/lines.h): strokes composited over the shaded image */
+  if (!ok || !line_render_frame(f, render_thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {
+    if (gbuf_out && *gbuf_out) { gbuf_destroy(*gbuf_out); *gbuf_out = NULL; }
+    image_destroy(*out);
+    *out = NULL;
+    return 0;
+  }
+  if (gbuf_out) render_gbuffer_attributes(*gbuf_out, f);
+  return 1;
+}
 
 int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out) {
   RenderFrame f;
@@ -1299,51 +1454,10 @@ int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **
   ** the ink under it afterwards, from the G-buffer */
   int canvas = canvas_wanted(s, &f);
   if (canvas) f.background = (Color){0, 0, 0, 0};
-  /* RGB over an opaque background (smaller, and PNG encodes it faster);
-  ** 8-bit when it goes to an 8-bit file, encoded by the tile workers as
-  ** they finish each row, unless origami sheets or the canvas (both in
-  ** float) come over it */
-  int nc = f.background.a >= 1 ? 3 : 4;
-  double t0 = stats_now();
-  if (o->out8 && s->norigami == 0 && !canvas) {
-    /* the tile pass writes every byte: no clearing, and each page is first
-    ** touched by the worker filling it (clearing and faulting the pages in
-    ** here cost ~3 ms at 1080p, alone) */
-    *out = image_create8_unset(f.width, f.height, nc);
-  } else if (canvas && s->norigami == 0) {
-    *out = image_create_unset(f.width, f.height, nc);   /* every value written, as above */
-  } else {
-    *out = image_create(f.width, f.height, nc);
-    mem_advise_huge((*out)->data, (size_t)f.width * f.height * nc * sizeof(float));
-  }
-  stats_record("setup", stats_now() - t0);   /* the frame's buffer is set up with it */
-  /* an 8-bit frame nothing is drawn over goes to its file while the pass runs */
-  const RenderRows *rows = o->rows && (*out)->data8 && !canvas && !line_frame_draws(&f) ? o->rows : NULL;
-  if (rows) rows->begin(rows->ctx, *out);
-  /* origami composes with meshes through the sample depths, and the canvas
-  ** reads the ink objects' samples: both need the G-buffer */
-  GBuffer *gbuf = NULL;
-  render_frame(&f, o, rows, *out, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
-  if (gbuf_out) *gbuf_out = gbuf;
-  int ok = 1;
-  if (s->norigami > 0) {
-    double t1 = stats_now();
-    ok = composite_origami(s, &f, *out, gbuf);
-    stats_record("origami", stats_now() - t1);
-  }
-  if (ok && canvas) ok = canvas_paint(s, &f, gbuf, out, o->out8);
-  if (!gbuf_out) gbuf_destroy(gbuf);
-  /* lines (src/render/lines.h): strokes composited over the shaded image */
-  if (!ok || !line_render_frame(&f, thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {
-    if (gbuf_out && *gbuf_out) { gbuf_destroy(*gbuf_out); *gbuf_out = NULL; }
-    image_destroy(*out);
-    *out = NULL;
-    render_frame_free(&f);
-    return 1;
-  }
-  if (gbuf_out) render_gbuffer_attributes(*gbuf_out, &f);
+  int ok = render_window_empty(o->window) ? render_stages(s, o, &f, canvas, out, gbuf_out)
+                                           : tile_render(s, o, &f, canvas, out, gbuf_out);
   render_frame_free(&f);
-  return 0;
+  return ok ? 0 : 1;
 }
 
 void render_gbuffer_attributes(GBuffer *g, const RenderFrame *f) {

@@ -53,16 +53,36 @@
 
 /* A taker of an 8-bit frame's finished rows, so that encoding the file
 ** overlaps rendering. render_scene uses it when nothing is drawn over the
-** frame after the tile pass (no lines, no origami): begin once, with the
-** frame's image (size, channels), before the tile pass; then rows with
-** rows y0..y1-1 of img as soon as they and every row above them are
-** shaded, in order, one call at a time, from whichever worker finished
-** them. Without begin having been called, the caller writes the frame. */
+** frame after the tile pass (no lines, no origami), or for a tile (tile.h)
+** drawn a band at a time: begin once, with an image of the file's size
+** and channels (its pixels are not read), before the tile pass (it
+** returns 0 when the file cannot take rows so: nothing more is handed to
+** it, and the caller writes the image whole); then rows
+** with rows y0..y1-1 of the file, held in band (an image of y1 - y0 rows),
+** as soon as they and every row above them are done, in order, one call at
+** a time, from whichever worker finished them. Without begin having been
+** called, the caller writes the frame. */
 typedef struct RenderRows {
   void *ctx;
-  void (*begin)(void *ctx, const Image *img);
-  void (*rows)(void *ctx, const Image *img, int y0, int y1);
+  int (*begin)(void *ctx, const Image *img);
+  void (*rows)(void *ctx, const Image *band, int y0, int y1);
 } RenderRows;
+
+/* A rectangle of the frame in output pixels, [x0, x1) x [y0, y1): a tile,
+** or the part of the frame a tile's stages work on. */
+typedef struct RenderWindow { int x0, y0, x1, y1; } RenderWindow;
+
+/* Is w empty (x1 <= x0 or y1 <= y0)? An empty window in RenderOptions
+** means the whole frame. */
+static inline int render_window_empty(RenderWindow w) { return w.x1 <= w.x0 || w.y1 <= w.y0; }
+
+/* Told how far a frame's tile pass has got: done of total screen tiles,
+** from whichever worker finished one, so possibly from several at once
+** (the callee is thread-safe and cheap: it is called once a tile). */
+typedef struct RenderProgress {
+  void *ctx;
+  void (*tiles)(void *ctx, int done, int total);
+} RenderProgress;
 
 typedef struct RenderOptions {
   int width, height;   /* after -W/-H (render_resolve_size); 0: the scene's, or 640 x 480 */
@@ -76,6 +96,8 @@ typedef struct RenderOptions {
   const RenderRows *rows;   /* with out8: the file's encoder, or NULL */
   struct StrokeList **strokes;   /* when set, render_scene hands the line stage's strokes
                                     back here (stroke_list_free) instead of drawing them */
+  RenderWindow window; /* render only this part of the frame (tile.h); empty: all of it */
+  const RenderProgress *progress;   /* or NULL */
 } RenderOptions;
 
 /* A light resolved for shading: floats, world space. A spot is a point
@@ -159,6 +181,9 @@ typedef struct RenderObject {
 
 typedef struct RenderFrame {
   int width, height;           /* output pixels */
+  RenderWindow win;            /* the part the stages draw (the whole frame, or a tile and
+                                  the margin its stages need): images and G-buffers cover
+                                  it, in the frame's pixel coordinates */
   int samples;                 /* N: N x N samples a pixel */
   int antialias;               /* `output { antialias }`: edges and bands are filtered
                                   by coverage (antialias.h) */
@@ -177,6 +202,9 @@ typedef struct RenderFrame {
                                   origami sheets, which hide lines too) */
 } RenderFrame;
 
+/* Worker threads o asks for (0: one per online CPU). */
+int render_thread_count(const RenderOptions *o);
+
 /* Output size from the scene and -W/-H (0 = not given): both given wins;
 ** one alone keeps the scene's aspect ratio; neither takes the scene's size
 ** or 640 x 480. */
@@ -189,19 +217,41 @@ void render_resolve_size(const Scene *s, int cli_w, int cli_h, int *w, int *h);
 int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f);
 void render_frame_free(RenderFrame *f);
 
-/* Rasterize and shade f into out (an image of f's size created by the
-** caller: RGB, or RGBA when the background is not opaque). With rows (its
-** begin already called), out's bands go to it as they are finished. When
-** gbuf_out is not NULL, *gbuf_out receives the whole G-buffer (caller
-** frees with gbuf_destroy); otherwise each worker keeps only the tile it
-** is drawing. */
+/* Rasterize and shade f's window (f->win: the whole frame unless a tile)
+** into out (an image of the window's size created by the caller: RGB, or
+** RGBA when the background is not opaque). With rows (its begin already
+** called), out's bands go to it as they are finished. When gbuf_out is
+** not NULL, *gbuf_out receives the window's G-buffer (caller frees with
+** gbuf_destroy); otherwise each worker keeps only the tile it is drawing. */
 void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
+                  GBuffer **gbuf_out);
+
+/* The tile pass in steps, for a caller that shades a window a band of rows
+** at a time (tile.c): begin sets up and bins f's triangles for f->win;
+** each run rasterizes and shades frame rows y0..y1-1 of the window into
+** out, an image of the window's width and y1 - y0 rows (rows and gbuf_out
+** as for render_frame: rows' y0 and y1 count from out's first row); end
+** frees it. render_frame is one run over the whole window. */
+typedef struct RenderPass RenderPass;
+RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o);
+void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Image *out, GBuffer **gbuf_out);
+void render_pass_end(RenderPass *p);
+
+/* The stages after prepare over f's window (f->win): the tile pass, the
+** origami sheets, the canvas (canvas: canvas_wanted, with f's background
+** made transparent) and the lines, into *out (an image of the window's
+** size) and, with gbuf_out, its G-buffer. Returns 1, or 0 after a
+** diagnostic (*out NULL then). */
+int render_stages(const Scene *s, const RenderOptions *o, RenderFrame *f, int canvas, Image **out,
                   GBuffer **gbuf_out);
 
 /* The whole pipeline: prepare, rasterize, shade, lines. *out receives a
 ** new image (image_destroy): RGB when the background is opaque, else RGBA
 ** (unassociated alpha); 8-bit (Image.data8) when o->out8 asks and no
-** origami sheet is composited over it, else float. Returns 0 on success, 1
+** origami sheet is composited over it, else float. With o->window, only
+** that part of the frame (tile.h): *out is the window's pixels, exactly as
+** the whole frame has them (with o->rows, an 8-bit window may go to its
+** file band by band: *out then has no pixels). Returns 0 on success, 1
 ** when the scene cannot be rendered (diagnostics reported). */
 int render_scene(const Scene *s, const RenderOptions *o, Image **out, GBuffer **gbuf_out);
 

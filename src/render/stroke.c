@@ -399,10 +399,12 @@ void stroke_list_free(StrokeList *sl) {
 
 /* ---- coverage ---------------------------------------------------------------- */
 
-/* A band of rows [y0, y1) of the target and the coverage of the stroke
-** being drawn (max-combined, so overlapping pieces do not darken). */
+/* A band of rows [y0, y1) and columns [x0, x0 + w) of the frame (the
+** target's, or a window's of a larger frame: columns and rows here are the
+** frame's) and the coverage of the stroke being drawn (max-combined, so
+** overlapping pieces do not darken). */
 typedef struct Band {
-  int w, y0, y1;
+  int x0, w, y0, y1;
   float *cov;   /* w * (y1 - y0), 0 but for the stroke being drawn */
   int *lo, *hi; /* per row: the columns the stroke touched (lo > hi: none) */
   float *run;   /* w * 4: an 8-bit target's pixels being composited, linear */
@@ -411,14 +413,14 @@ typedef struct Band {
 /* Pixel rows/columns of the box [x0, x1] x [y0, y1] inside the band. */
 static int band_clip(const Band *b, float x0, float y0, float x1, float y1, int *xa, int *ya,
                      int *xb, int *yb) {
-  *xa = floor_int(maxf(0, x0));   /* = fmaxf(0, floorf(x0)): the bound is an integer */
-  *xb = ceil_int(minf((float)(b->w - 1), x1));
+  *xa = floor_int(maxf((float)b->x0, x0));   /* = fmaxf(b->x0, floorf(x0)): the bound is an integer */
+  *xb = ceil_int(minf((float)(b->x0 + b->w - 1), x1));
   *ya = floor_int(maxf((float)b->y0, y0));
   *yb = ceil_int(minf((float)(b->y1 - 1), y1));
   return *xa <= *xb && *ya <= *yb;
 }
 
-/* Coverage row y. */
+/* Coverage row y: frame column x at [x - b->x0]. */
 static float *band_row(const Band *b, int y) { return &b->cov[(size_t)(y - b->y0) * b->w]; }
 
 /* Row y's columns [xa, xb] were written (none when xa > xb). */
@@ -474,7 +476,7 @@ static void cover_plain(const Band *b, const Stroke *st) {
     HalfPlane hp[4] = {half_plane(ax, ay, ux, uy, pad), half_plane(bx, by, -ux, -uy, pad),
                        half_plane(ax, ay, -uy, ux, pad), half_plane(ax, ay, uy, -ux, pad)};
     for (int y = ya; y <= yb; y++) {
-      int x0, x1, wa = b->w, wb = -1;
+      int x0, x1, wa = b->x0 + b->w, wb = -1;
       if (!row_span(hp, 4, y, xa, xb, &x0, &x1)) continue;
       float *c = band_row(b, y);
       for (int x = x0; x <= x1; x++) {
@@ -483,7 +485,7 @@ static void cover_plain(const Band *b, const Stroke *st) {
         float qx = px - t * ex, qy = py - t * ey, d = sqrtf(qx * qx + qy * qy);
         float a = st->width >= 1 ? clampf(hw + 0.5f - d, 0, 1) : st->width * clampf(1 - d, 0, 1);
         if (a <= 0) continue;
-        if (a > c[x]) c[x] = a;
+        if (a > c[x - b->x0]) c[x - b->x0] = a;
         if (x < wa) wa = x;
         wb = x;
       }
@@ -535,7 +537,7 @@ static void cover_quad(const Band *b, const Stroke *st, Ink *ink, int i) {
                      half_plane(L[2 * i], L[2 * i + 1], nlx, nly, 0.5f + m),
                      half_plane(R[2 * i], R[2 * i + 1], nrx, nry, 0.5f + m)};
   for (int y = ya; y <= yb; y++) {
-    int ra, rb, wa = b->w, wb = -1;
+    int ra, rb, wa = b->x0 + b->w, wb = -1;
     if (!row_span(hp, 4, y, xa, xb, &ra, &rb)) continue;
     float *c = band_row(b, y);
     /* signed distances (p - a) . n from the four sides, their row terms
@@ -555,12 +557,12 @@ static void cover_quad(const Band *b, const Stroke *st, Ink *ink, int i) {
       float dr = (px - R[2 * i]) * nrx + dr_y;
       if (dl < -0.5f || dr < -0.5f) continue;
       float cov = clampf(dl + 0.5f, 0, 1) * clampf(dr + 0.5f, 0, 1) * capcov;
-      if (cov <= c[x]) continue;
+      if (cov <= c[x - b->x0]) continue;
       float t = fa - fb > 1e-6f ? clampf(fa / (fa - fb), 0, 1) : 0;
       float v = dl + dr > 1e-6f ? clampf(dr / (dl + dr), 0, 1) : 0.5f;
       float a = cov * texture_at(st, ink, s0 + t * (s1 - s0), v);
       if (a <= 0) continue;
-      if (a > c[x]) c[x] = a;
+      if (a > c[x - b->x0]) c[x - b->x0] = a;
       if (x < wa) wa = x;
       wb = x;
     }
@@ -596,14 +598,14 @@ static void cover_join(const Band *b, const Stroke *st, Ink *ink, int i) {
     if (x1 > xb) x1 = xb;
     if (x0 > x1) continue;
     float *c = band_row(b, y);
-    int wa = b->w, wb = -1;
+    int wa = b->x0 + b->w, wb = -1;
     for (int x = x0; x <= x1; x++) {
       float px = x + 0.5f - cx, py = y + 0.5f - cy, d = sqrtf(px * px + py * py);
       float cov = clampf(hw + 0.5f - d, 0, 1);
-      if (cov <= 0 || cov * top <= c[x]) continue;
+      if (cov <= 0 || cov * top <= c[x - b->x0]) continue;
       float v = clampf(0.5f + 0.5f * (px * rx + py * ry) / hw, 0, 1);
       float a = cov * (proc ? ink_across(ink, &along, v) : texture_at(st, ink, s, v));
-      if (a > c[x]) c[x] = a;
+      if (a > c[x - b->x0]) c[x - b->x0] = a;
       if (x < wa) wa = x;
       wb = x;
     }
@@ -628,30 +630,30 @@ static inline void composite_pixel(float *p, int alpha, int ncol, const float co
 /* Composite the band's coverage of st (rows ya..yb, the columns it
 ** touched) over the target, and clear it for the next stroke. An 8-bit
 ** target is decoded and encoded a run of inked neighbours at a time. */
-static void composite(const Band *b, const Stroke *st, Image *target, int ya, int yb) {
+static void composite(const Band *b, const Stroke *st, Image *target, int ox, int oy, int ya, int yb) {
   int ch = target->channels, alpha = image_alpha_channel(target), ncol = ch >= 3 ? 3 : 1;
   float col[3] = {st->color.r, st->color.g, st->color.b};
   if (ch < 3) col[0] = st->color.g;
   for (int y = ya; y <= yb; y++) {
     int r = y - b->y0;
-    float *c = &b->cov[(size_t)r * b->w];
-    size_t row = (size_t)y * target->width * ch;
+    float *c = &b->cov[(size_t)r * b->w];   /* frame column x at c[x - b->x0] */
+    size_t row = (size_t)(y - oy) * target->width * ch;
     for (int x = b->lo[r], e; x <= b->hi[r]; x = e) {
-      if (c[x] * st->opacity <= 0) { c[x] = 0; e = x + 1; continue; }
-      for (e = x + 1; e <= b->hi[r] && !(c[e] * st->opacity <= 0); e++) {}
+      if (c[x - b->x0] * st->opacity <= 0) { c[x - b->x0] = 0; e = x + 1; continue; }
+      for (e = x + 1; e <= b->hi[r] && !(c[e - b->x0] * st->opacity <= 0); e++) {}
       /* an 8-bit image: mix in linear, encode again. It holds the fill as
       ** it shows (clamped to 1), so partial ink mixes with what is seen; a
       ** float image keeps fill above 1, which shows through partial ink */
-      uint8_t *code = target->data8 ? target->data8 + row + (size_t)x * ch : NULL;
-      float *p = code ? b->run : target->data + row + (size_t)x * ch;
+      uint8_t *code = target->data8 ? target->data8 + row + (size_t)(x - ox) * ch : NULL;
+      float *p = code ? b->run : target->data + row + (size_t)(x - ox) * ch;
       if (code) image_decode8(code, p, (size_t)(e - x), ch);
-      for (int k = x; k < e; k++, p += ch) {
+      for (int k = x - b->x0; k < e - b->x0; k++, p += ch) {
         composite_pixel(p, alpha, ncol, col, c[k] * st->opacity);
         c[k] = 0;
       }
       if (code) image_encode8(b->run, code, (size_t)(e - x), ch);
     }
-    b->lo[r] = b->w;
+    b->lo[r] = b->x0 + b->w;
     b->hi[r] = -1;
   }
 }
@@ -663,6 +665,7 @@ static void composite(const Band *b, const Stroke *st, Image *target, int ya, in
 typedef struct StrokeJob {
   const StrokeList *sl;
   Image *target;
+  int ox, oy;       /* the frame pixel the target's first pixel is */
   int nbands;
   float **cov;      /* per worker: a band's coverage buffer */
   int **rows;       /* per worker: 2 * band_h column bounds */
@@ -672,10 +675,10 @@ typedef struct StrokeJob {
 
 static void stroke_band(void *ctx, int band, int worker) {
   StrokeJob *j = ctx;
-  Band b = {j->target->width, band * j->band_h, (band + 1) * j->band_h, j->cov[worker],
-            j->rows[worker], j->rows[worker] + j->band_h, j->run[worker]};
-  if (b.y1 > j->target->height) b.y1 = j->target->height;
-  for (int r = 0; r < j->band_h; r++) { b.lo[r] = b.w; b.hi[r] = -1; }
+  Band b = {j->ox, j->target->width, j->oy + band * j->band_h, j->oy + (band + 1) * j->band_h,
+            j->cov[worker], j->rows[worker], j->rows[worker] + j->band_h, j->run[worker]};
+  if (b.y1 > j->oy + j->target->height) b.y1 = j->oy + j->target->height;
+  for (int r = 0; r < j->band_h; r++) { b.lo[r] = b.x0 + b.w; b.hi[r] = -1; }
   for (int k = 0; k < j->sl->n; k++) {
     const Stroke *st = &j->sl->s[k];
     int xa, ya, xb, yb;
@@ -683,7 +686,7 @@ static void stroke_band(void *ctx, int band, int worker) {
     if (st->kind == STROKE_PLAIN) {
       cover_plain(&b, st);
     } else if (st->kind == STROKE_BRUSH) {
-      brush_cover(st->brush, b.cov, b.w, b.y0, b.y1, b.lo, b.hi);
+      brush_cover(st->brush, b.cov, b.x0, b.w, b.y0, b.y1, b.lo, b.hi);
     } else {
       Ink ink;
       ink_init(&ink, st->phase, st->s[st->npts - 1], st->width);
@@ -691,11 +694,15 @@ static void stroke_band(void *ctx, int band, int worker) {
       for (int i = 1; i + 1 < st->npts; i++) cover_join(&b, st, &ink, i);
       if (st->closed) cover_join(&b, st, &ink, 0);
     }
-    composite(&b, st, j->target, ya, yb);
+    composite(&b, st, j->target, j->ox, j->oy, ya, yb);
   }
 }
 
 void stroke_render(const StrokeList *sl, Image *target, int threads) {
+  stroke_render_at(sl, target, 0, 0, threads);
+}
+
+void stroke_render_at(const StrokeList *sl, Image *target, int ox, int oy, int threads) {
   if (!sl || sl->n == 0 || target->width < 1 || target->height < 1) return;
   if (threads < 1) threads = 1;
   int nbands = threads > 1 ? threads * 4 : 1;
@@ -704,7 +711,7 @@ void stroke_render(const StrokeList *sl, Image *target, int threads) {
   if (band_h > STROKE_BAND_ROWS) band_h = STROKE_BAND_ROWS;   /* bounds each worker's buffer */
   nbands = (target->height + band_h - 1) / band_h;
   int nw = threads < nbands ? threads : nbands;
-  StrokeJob job = {sl, target, nbands, xmalloc((size_t)nw * sizeof(float *)),
+  StrokeJob job = {sl, target, ox, oy, nbands, xmalloc((size_t)nw * sizeof(float *)),
                    xmalloc((size_t)nw * sizeof(int *)), xmalloc((size_t)nw * sizeof(float *)), band_h};
   for (int w = 0; w < nw; w++) {
     job.cov[w] = xcalloc((size_t)target->width * band_h, sizeof(float));

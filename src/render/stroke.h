@@ -71,6 +71,10 @@ void stroke_list_free(StrokeList *sl);
 
 /* Composite every stroke over target (3 or 4 channels, linear). */
 void stroke_render(const StrokeList *sl, Image *target, int threads);
+/* The same over a target that is a window of a larger frame, its first
+** pixel at the frame's (ox, oy) (the strokes are in the frame's pixels):
+** each of its pixels gets the bits the whole frame's has. */
+void stroke_render_at(const StrokeList *sl, Image *target, int ox, int oy, int threads);
 
 /* The procedural ink texture at arc length s (of length len) and across
 ** position v for a stroke of width w: ink in [0, 1]. Exposed for tests. */

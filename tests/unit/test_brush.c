@@ -418,7 +418,7 @@ static float *line_coverage(const SceneBrush *b) {
   float *cov = xcalloc(460 * 100, sizeof *cov);
   int lo[100], hi[100];
   for (int y = 0; y < 100; y++) { lo[y] = 460; hi[y] = -1; }
-  brush_cover(&t.bp, cov, 460, 0, 100, lo, hi);
+  brush_cover(&t.bp, cov, 0, 460, 0, 100, lo, hi);
   test_path_free(&t);
   free(c);
   return cov;
@@ -470,7 +470,7 @@ TEST(deposits_are_antialiased) {
   float *cov = xcalloc(460 * 40, sizeof *cov);
   int lo[40], hi[40];
   for (int y = 0; y < 40; y++) { lo[y] = 460; hi[y] = -1; }
-  brush_cover(&t.bp, cov, 460, 0, 40, lo, hi);
+  brush_cover(&t.bp, cov, 0, 460, 0, 40, lo, hi);
   float r19 = cov[19 * 460 + 230], r20 = cov[20 * 460 + 230], r21 = cov[21 * 460 + 230];
   CHECK(r19 > 0.01f && r20 > r19 && r20 < 0.9f);
   CHECK_NEAR(r21, 0, 0);
