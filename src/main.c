@@ -17,6 +17,7 @@
 #include "base/mem.h"
 #include "geom/origami.h"
 #include "geom/origami_layers.h"
+#include "io/assemble.h"
 #include "io/crease.h"
 #include "io/fold.h"
 #include "geom/refine.h"
@@ -37,6 +38,7 @@
 typedef struct Options {
   const char *command;
   const char *input;
+  const char **inputs; int ninputs;   /* every file named (sumi assemble takes several) */
   const char *output;
   int ast, scene, compare, stats, quiet, loop;
   int width, height, threads;
@@ -72,6 +74,8 @@ static void usage(FILE *out) {
     "  refine FILE --compare  compare our tessellation with OpenSubdiv's limit surface\n"
     "  watch FILE -o OUT    render, then render again whenever the scene or a file it\n"
     "                       includes changes (Ctrl-C stops)\n"
+    "  assemble TILES... -o OUT  stitch the tiles of render --tile into their frame\n"
+    "                       (the bytes one render writes)\n"
     "\n"
     "options:\n"
     "  -o FILE              output file\n"
@@ -81,6 +85,9 @@ static void usage(FILE *out) {
     "  --frames A:B         render frames A..B; clock runs 0..1 over them, frame is the\n"
     "                       number; OUT's #### (or a 4-digit suffix) takes the frame\n"
     "  --loop               with --frames: a loop, clock in [0, 1) (B is not A again)\n"
+    "  --tile I/N, --tile I/CxR  render tile I (from 1, row by row) of the frame cut\n"
+    "                       into N rows of tiles, or C columns and R rows; writes a\n"
+    "                       .png, .tif or .exr that knows its place (sumi assemble)\n"
     "  --threads N          worker threads (output is identical at any count)\n"
     "  --stats              print per-stage times and peak memory\n"
     "  --aov LIST           also write depth,normal,object,face passes\n"
@@ -160,8 +167,10 @@ static void parse_options(int argc, char **argv, Options *o) {
       o->limits[k] = parse_int_arg(a, v, 1, 2000000000);
     } else if (a[0] == '-' && a[1] != '\0') bad_usage("unknown option `%s`", a);
     else if (!o->command) o->command = a;
-    else if (!o->input) o->input = a;
-    else bad_usage("unexpected argument `%s` (one input file only)", a);
+    else {
+      o->inputs = push_str(o->inputs, &o->ninputs, a);
+      o->input = o->inputs[0];
+    }
 #undef NEED_VALUE
   }
   if (!o->command) { usage(stderr); exit(2); }
@@ -402,6 +411,7 @@ static void frame_path(char *buf, size_t n, const char *output, int frame) {
 ** they are; otherwise begun stays 0 and the whole image is written after. */
 typedef struct OutputStream {
   const char *path;
+  const ImageTile *tile;      /* the file is this tile of a frame, or NULL */
   int begun;
   ImageStream *file;          /* once begun: NULL when the file could not be opened */
   char err[512];              /* why it could not */
@@ -411,8 +421,8 @@ static int stream_begin(void *ctx, const Image *img) {
   OutputStream *os = ctx;
   if (!image_stream_fits(os->path, img->channels)) return 0;   /* image_write converts it */
   os->begun = 1;
-  os->file = image_stream_open(os->path, img->width, img->height, img->channels, os->err,
-                               sizeof os->err);
+  os->file = image_stream_open_tile(os->path, img->width, img->height, img->channels, os->tile, os->err,
+                                    sizeof os->err);
   return 1;
 }
 
@@ -426,11 +436,13 @@ static void stream_rows(void *ctx, const Image *band, int y0, int y1) {
 ** of memory it does not use. */
 #define HUGE_HEAP_SAMPLES (1L << 20)
 
-/* Back the heap with huge pages once, before the first big frame. */
+/* Back the heap with huge pages once, before the first big frame (or tile). */
 static void heap_for_frame(const Scene *scene, const RenderOptions *ro) {
   static int done;
   long n = scene->output.samples > 0 ? scene->output.samples : 1;
-  if (done || (long)ro->width * ro->height * n * n < HUGE_HEAP_SAMPLES) return;
+  RenderWindow w = ro->window;
+  long pixels = render_window_empty(w) ? (long)ro->width * ro->height : (long)(w.x1 - w.x0) * (w.y1 - w.y0);
+  if (done || pixels * n * n < HUGE_HEAP_SAMPLES) return;
   mem_heap_setup(1);
   done = 1;
 }
@@ -444,13 +456,37 @@ static void prefetch_for_output(const Options *o) {
     image_bridge_prefetch();
 }
 
-/* The window of --tile in the frame ro is resolved for (usage errors
-** end the program: tile_check did the spec's own). */
-static void tile_window(const Options *o, RenderOptions *ro) {
+/* A name for what a render of scene at w x h draws, the same in every job
+** that renders it: a hash (FNV-1a, 64 bits) of the evaluated scene as
+** `sumi eval --scene` prints it, and the size. */
+static void render_key(const Scene *scene, int w, int h, char *out, size_t n) {
+  char *text = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&text, &len);
+  if (!f) sumi_fatal("out of memory");
+  scene_print(scene, f);
+  fprintf(f, "size %dx%d\n", w, h);
+  fclose(f);
+  unsigned long long hash = 1469598103934665603ULL;
+  for (size_t i = 0; i < len; i++) hash = (hash ^ (unsigned char)text[i]) * 1099511628211ULL;
+  free(text);
+  snprintf(out, n, "%016llx", hash);
+}
+
+/* The window of --tile in the frame ro is resolved for, and the tile's
+** place for its file (a frame too small for the split is bad usage). */
+static void tile_window(const Options *o, const Scene *scene, RenderOptions *ro, ImageTile *it) {
   TileSpec t;
   char err[256];
   if (!tile_parse(o->tile, &t, err, sizeof err) || !tile_rect(&t, ro->width, ro->height, &ro->window, err, sizeof err))
     bad_usage("%s", err);
+  memset(it, 0, sizeof *it);
+  it->x = ro->window.x0;
+  it->y = ro->window.y0;
+  it->full_width = ro->width;
+  it->full_height = ro->height;
+  tile_format(&t, it->name, sizeof it->name);
+  render_key(scene, ro->width, ro->height, it->render, sizeof it->render);
 }
 
 /* Render the evaluated scene to path (an image, or the strokes as SVG),
@@ -459,14 +495,15 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   RenderOptions ro;
   memset(&ro, 0, sizeof ro);
   render_resolve_size(scene, o->width, o->height, &ro.width, &ro.height);
+  ImageTile tile;
+  if (o->tile) tile_window(o, scene, &ro, &tile);
   heap_for_frame(scene, &ro);
   ro.threads = o->threads;
   ro.stats = o->stats;
-  if (o->tile) tile_window(o, &ro);
   const char *ext = strrchr(path, '.');
   if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
   ro.out8 = image_write_is_8bit(path);
-  OutputStream os = {path, 0, NULL, ""};
+  OutputStream os = {path, o->tile ? &tile : NULL, 0, NULL, ""};
   RenderRows rows = {&os, stream_begin, stream_rows};
   ro.rows = &rows;
   Image *img = NULL;
@@ -475,7 +512,8 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   if (render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
     char err[512];
     double t0 = now_seconds();
-    if (!os.begun) status = image_write(path, img, err, sizeof err) ? 0 : 1;
+    ImageWriteOptions wo = {0, 0, 0, os.tile};
+    if (!os.begun) status = image_write_opts(path, img, &wo, err, sizeof err) ? 0 : 1;
     else if (os.file) status = image_stream_close(os.file, err, sizeof err) ? 0 : 1;
     else snprintf(err, sizeof err, "%s", os.err);
     if (status) fprintf(stderr, "sumi: %s\n", err);
@@ -559,6 +597,14 @@ static int render_checks(const Options *o, const char *path) {
 
 /* sumi render FILE -o OUT [--frames A:B]: one image, or one a frame. */
 static int cmd_render(const Options *o) {
+  if (o->tile) {   /* the spec now, the frame's size once the scene is in */
+    TileSpec t;
+    char err[256];
+    if (!tile_parse(o->tile, &t, err, sizeof err)) bad_usage("%s", err);
+    if (!image_keeps_tiles(o->output))
+      bad_usage("--tile writes .png, .tif or .exr files (exact pixels, and their place in the frame), not `%s`",
+                o->output);
+  }
   if (!o->frames && !render_checks(o, o->output)) return 1;
   prefetch_for_output(o);
   if (!o->frames) return render_frame_to(o, 0, 0, o->output);
@@ -625,6 +671,15 @@ static int cmd_watch(const Options *o) {
   }
 }
 
+/* sumi assemble TILES... -o OUT: the tiles of `render --tile` stitched into
+** their frame (io/assemble.h). */
+static int cmd_assemble(const Options *o) {
+  char err[1200];
+  if (assemble_tiles(o->inputs, o->ninputs, o->output, err, sizeof err)) return 0;
+  fprintf(stderr, "sumi: assemble: %s\n", err);
+  return 1;
+}
+
 typedef struct Command {
   const char *name;
   int (*run)(const Options *o);
@@ -640,6 +695,7 @@ static const Command commands[] = {
   {"refine", cmd_refine, 0},
   {"render", cmd_render, 1},
   {"watch", cmd_watch, 1},
+  {"assemble", cmd_assemble, 1},
 };
 
 int main(int argc, char **argv) {
@@ -651,12 +707,15 @@ int main(int argc, char **argv) {
     if (!strcmp(commands[i].name, o.command)) cmd = &commands[i];
   if (!cmd) bad_usage("unknown command `%s`", o.command);
   if (!o.input) bad_usage("`sumi %s` needs an input file (or - for standard input)", o.command);
+  if (o.ninputs > 1 && cmd->run != cmd_assemble)
+    bad_usage("unexpected argument `%s` (one input file only)", o.inputs[1]);
   if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
   mem_heap_setup(0);   /* huge pages come later, for a big frame (heap_for_frame) */
   int status = cmd->run(&o);
   image_bridge_join();
   diag_shutdown();
   free((void *)o.defines);
+  free((void *)o.inputs);
   free((void *)o.include_dirs);
   return status;
 }

@@ -10,6 +10,7 @@
 #                       with "// svg: TOLERANCE", x.svg drawn by rsvg-convert against x.png
 #   docs/*.md ```npr blocks  each renders (small) with status 0 and no output
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
+#   tests/tiles.sh      every example as tiles, assembled: the whole render's bytes
 #
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
@@ -213,6 +214,18 @@ for t in "$ROOT/$BUILD"/unit/test_*; do
   passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
   if [ "$q" != 0 ]; then echo "FAIL unit/$(basename "$t")"; head -20 "$OUT/$(basename "$t").stderr"; fi
 done
+
+# Tiles: every example rendered whole and as tiles in separate processes,
+# stitched by `sumi assemble`, byte for byte the same (tests/tiles.sh).
+line=$(OUT="$OUT/tiles" sh "$ROOT/tests/tiles.sh" "$SUMI" 2>&1 | tee "$OUT/tiles.log" | tail -1)
+p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
+q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
+s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
+if [ -z "$p" ]; then fail "tiles (printed no count)"
+else
+  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
+  [ "$q" = 0 ] || grep -A4 FAIL "$OUT/tiles.log" | head -30
+fi
 
 # Real crease patterns against Flat-Folder's counts (the fast rows; all of
 # them: make check-cp). Skips cleanly without ../shared.

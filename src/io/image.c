@@ -476,12 +476,17 @@ static int end_write(const char *path, const char *tmp, char *err, size_t errlen
 
 /* Open the temporary file tmp as a PNG of px's size (8- or 16-bit codes);
 ** NULL with the reason in err, the file left for the caller to remove. */
-static PngOut *png_begin(const char *path, const char *tmp, const SumiOiioPixels *px, FILE **f,
-                         char *err, size_t errlen) {
-  char why[512];
+static PngOut *png_begin(const char *path, const char *tmp, const SumiOiioPixels *px, const ImageTile *tile,
+                         FILE **f, char *err, size_t errlen) {
+  char why[512], text[256];
+  PngPlace place = {0, 0, "Description", text};
+  if (tile) {
+    place.x = tile->x, place.y = tile->y;
+    image_tile_format(tile, text, sizeof text);
+  }
   *f = fopen(tmp, "wb");
-  PngOut *p = *f ? png_out_open(*f, px->width, px->height, px->channels,
-                                px->type == SUMI_OIIO_UINT16 ? 16 : 8, why, sizeof why) : NULL;
+  PngOut *p = *f ? png_out_open(*f, px->width, px->height, px->channels, px->type == SUMI_OIIO_UINT16 ? 16 : 8,
+                                tile ? &place : NULL, why, sizeof why) : NULL;
   if (p) return p;
   set_err(err, errlen, "cannot write '%s': %s", path, *f ? why : strerror(errno));
   if (*f) fclose(*f);
@@ -503,10 +508,10 @@ static int png_end(PngOut *p, FILE *f, int ok, char *why, size_t n) {
 }
 
 /* Write px as a PNG through libpng into tmp. */
-static int write_png(const char *path, const char *tmp, const SumiOiioPixels *px, char *err,
-                     size_t errlen) {
+static int write_png(const char *path, const char *tmp, const SumiOiioPixels *px, const ImageTile *tile,
+                     char *err, size_t errlen) {
   FILE *f;
-  PngOut *p = png_begin(path, tmp, px, &f, err, errlen);
+  PngOut *p = png_begin(path, tmp, px, tile, &f, err, errlen);
   if (!p) return 0;
   char why[512] = "";
   int ok = png_out_rows(p, px->data, px->height, why, sizeof why);
@@ -515,20 +520,33 @@ static int write_png(const char *path, const char *tmp, const SumiOiioPixels *px
   return 0;
 }
 
+/* w with tile's place in it (text: room for its description). */
+static SumiOiioWrite placed(const SumiOiioWrite *w, const ImageTile *tile, char *text, size_t n) {
+  SumiOiioWrite out = *w;
+  if (!tile) return out;
+  out.x = tile->x, out.y = tile->y;
+  out.full_width = tile->full_width, out.full_height = tile->full_height;
+  image_tile_format(tile, text, n);
+  out.description = text;
+  return out;
+}
+
 /* Write px through libpng (a PNG) or the bridge to a temporary file, then
-** rename it to path. On any failure the temporary file is removed. */
+** rename it to path, placed as tile says (NULL: not a tile). On any
+** failure the temporary file is removed. */
 static int write_atomic(const char *path, const SumiOiioPixels *px, const SumiOiioWrite *w,
-                        char *err, size_t errlen) {
-  char tmp[PATH_MAX + 64], why[768];
+                        const ImageTile *tile, char *err, size_t errlen) {
+  char tmp[PATH_MAX + 64], why[768], text[256];
   if (!begin_write(path, tmp, sizeof tmp, err, errlen)) return 0;
   if (format_of(path) == FMT_PNG) {
-    if (!write_png(path, tmp, px, err, errlen)) {
+    if (!write_png(path, tmp, px, tile, err, errlen)) {
       tempfile_discard(tmp);
       return 0;
     }
     return end_write(path, tmp, err, errlen);
   }
-  if (!bridge->write(tmp, px, w, why, sizeof why)) {
+  SumiOiioWrite how = placed(w, tile, text, sizeof text);
+  if (!bridge->write(tmp, px, &how, why, sizeof why)) {
     tempfile_discard(tmp);
     set_err(err, errlen, "cannot write '%s': %s", path, why);
     return 0;
@@ -555,6 +573,11 @@ int image_stream_fits(const char *path, int nc) {
 }
 
 ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err, size_t errlen) {
+  return image_stream_open_tile(path, w, h, nc, NULL, err, errlen);
+}
+
+ImageStream *image_stream_open_tile(const char *path, int w, int h, int nc, const ImageTile *tile, char *err,
+                                    size_t errlen) {
   if (!image_stream_fits(path, nc) || strlen(path) >= PATH_MAX) {
     set_err(err, errlen, "cannot write '%s': not an 8-bit image file for %d channels", path, nc);
     return NULL;
@@ -569,10 +592,12 @@ ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err
   s->height = h;
   s->channels = nc;
   int ac = nc == 2 || nc == 4 ? nc - 1 : -1;
-  SumiOiioPixels px = {w, h, nc, SUMI_OIIO_UINT8, ac, NULL, ""};
-  SumiOiioWrite how = {0, NULL, "sRGB", 0};   /* what write_encoded gives an 8-bit image */
+  SumiOiioPixels px = {w, h, nc, SUMI_OIIO_UINT8, ac, NULL, "", 0, 0, 0, 0, ""};
+  SumiOiioWrite plain = {0, NULL, "sRGB", 0, 0, 0, 0, 0, NULL};   /* what write_encoded gives an 8-bit image */
+  char text[256];
+  SumiOiioWrite how = placed(&plain, tile, text, sizeof text);
   if (format_of(path) == FMT_PNG) {
-    if ((s->png = png_begin(path, s->tmp, &px, &s->file, err, errlen))) return s;
+    if ((s->png = png_begin(path, s->tmp, &px, tile, &s->file, err, errlen))) return s;
     tempfile_discard(s->tmp);
     free(s);
     return NULL;
@@ -673,9 +698,9 @@ static int write_exr(const char *path, const Image *img, const ImageWriteOptions
   int ac = image_alpha_channel(img);
   float *assoc = ac >= 0 ? associate_alpha(img) : NULL;
   SumiOiioPixels px = { img->width, img->height, img->channels, SUMI_OIIO_FLOAT, ac,
-                        assoc ? assoc : img->data, "" };
-  SumiOiioWrite w = { opt->exr_half ? SUMI_OIIO_HALF : SUMI_OIIO_FLOAT, NULL, "Linear", 0 };
-  int ok = write_atomic(path, &px, &w, err, errlen);
+                        assoc ? assoc : img->data, "", 0, 0, 0, 0, "" };
+  SumiOiioWrite w = { opt->exr_half ? SUMI_OIIO_HALF : SUMI_OIIO_FLOAT, NULL, "Linear", 0, 0, 0, 0, 0, NULL };
+  int ok = write_atomic(path, &px, &w, opt->tile, err, errlen);
   free(assoc);
   return ok;
 }
@@ -692,9 +717,9 @@ static int write_encoded(const char *path, ImageFormat fmt, const Image *img,
   void *codes = as_is ? img->data8 : encode_integer(img, bits, keep_alpha, &nch);
   int ac = keep_alpha ? image_alpha_channel(img) : -1;
   SumiOiioPixels px = { img->width, img->height, nch, bits == 16 ? SUMI_OIIO_UINT16 : SUMI_OIIO_UINT8,
-                        ac, codes, "" };
-  SumiOiioWrite w = { 0, NULL, "sRGB", opt->jpeg_quality };
-  int ok = write_atomic(path, &px, &w, err, errlen);
+                        ac, codes, "", 0, 0, 0, 0, "" };
+  SumiOiioWrite w = { 0, NULL, "sRGB", opt->jpeg_quality, 0, 0, 0, 0, NULL };
+  int ok = write_atomic(path, &px, &w, opt->tile, err, errlen);
   if (!as_is) free(codes);
   return ok;
 }
@@ -736,6 +761,11 @@ int image_write_needs_bridge(const char *path) {
 int image_read_needs_bridge(const char *name) {
   const char *ext = path_extension(name);
   return ext && strcasecmp(ext, "png") != 0;
+}
+
+int image_keeps_tiles(const char *path) {
+  ImageFormat fmt = format_of(path);
+  return fmt == FMT_PNG || fmt == FMT_TIFF || fmt == FMT_EXR;
 }
 
 int image_write_is_8bit(const char *path) {
@@ -780,9 +810,9 @@ int image_write_aov_exr(const char *path, int w, int h, int nch, const char **ch
   int ac = -1;
   for (int c = 0; c < nch; c++)
     if (!strcmp(channel_names[c], "A")) ac = c;
-  SumiOiioPixels px = { w, h, nch, SUMI_OIIO_FLOAT, ac, (void *)data, "" };
-  SumiOiioWrite wr = { SUMI_OIIO_FLOAT, (const char *const *)channel_names, NULL, 0 };
-  return write_atomic(path, &px, &wr, err, errlen);
+  SumiOiioPixels px = { w, h, nch, SUMI_OIIO_FLOAT, ac, (void *)data, "", 0, 0, 0, 0, "" };
+  SumiOiioWrite wr = { SUMI_OIIO_FLOAT, (const char *const *)channel_names, NULL, 0, 0, 0, 0, 0, NULL };
+  return write_atomic(path, &px, &wr, NULL, err, errlen);
 }
 
 int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, char *err,
@@ -796,9 +826,9 @@ int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, cha
     return 0;
   }
   static const char *const names[] = { "id" };
-  SumiOiioPixels px = { w, h, 1, SUMI_OIIO_INT32, -1, (void *)ids, "" };
-  SumiOiioWrite wr = { SUMI_OIIO_INT32, names, NULL, 0 };
-  return write_atomic(path, &px, &wr, err, errlen);
+  SumiOiioPixels px = { w, h, 1, SUMI_OIIO_INT32, -1, (void *)ids, "", 0, 0, 0, 0, "" };
+  SumiOiioWrite wr = { SUMI_OIIO_INT32, names, NULL, 0, 0, 0, 0, 0, NULL };
+  return write_atomic(path, &px, &wr, NULL, err, errlen);
 }
 
 /* ---- reading ------------------------------------------------------------ */
@@ -920,4 +950,87 @@ int image_read_ids(const char *path, int *w, int *h, int32_t **ids, char *err, s
   *h = px.height;
   *ids = px.data;
   return 1;
+}
+
+/* ---- tiles: their description, and pixels as stored ----------------------- */
+
+void image_tile_format(const ImageTile *t, char *buf, size_t n) {
+  snprintf(buf, n, "sumi tile %s of %dx%d at %d,%d render %s", t->name, t->full_width, t->full_height, t->x,
+           t->y, t->render);
+}
+
+int image_tile_parse(const char *text, ImageTile *t) {
+  ImageTile u;
+  memset(&u, 0, sizeof u);
+  int end = 0;
+  if (sscanf(text, "sumi tile %31s of %dx%d at %d,%d render %31s%n", u.name, &u.full_width, &u.full_height, &u.x,
+             &u.y, u.render, &end) != 6 || text[end] != 0)
+    return 0;
+  if (u.full_width < 1 || u.full_height < 1 || u.x < 0 || u.y < 0) return 0;
+  *t = u;
+  return 1;
+}
+
+int image_read_raw(const char *path, ImageRaw *raw, char *err, size_t errlen) {
+  memset(raw, 0, sizeof *raw);
+  SumiOiioPixels px;
+  if (!read_pixels(path, 0, &px, err, errlen)) return 0;
+  raw->width = px.width;
+  raw->height = px.height;
+  raw->channels = px.channels;
+  raw->type = px.type == SUMI_OIIO_UINT8 ? IMAGE_RAW_U8 : px.type == SUMI_OIIO_UINT16 ? IMAGE_RAW_U16
+                                                                                      : IMAGE_RAW_FLOAT;
+  raw->data = px.data;
+  snprintf(raw->format, sizeof raw->format, "%s", px.format);
+  if (px.type == SUMI_OIIO_INT32) {
+    set_err(err, errlen, "cannot read '%s': an id image is not a colour image", path);
+    image_raw_free(raw);
+    return 0;
+  }
+  char text[256] = "";
+  raw->x = px.x, raw->y = px.y, raw->full_width = px.full_width, raw->full_height = px.full_height;
+  if (!strcmp(px.format, "png")) {
+    png_read_place(path, "Description", text, sizeof text, &raw->x, &raw->y);
+    raw->full_width = raw->full_height = 0;   /* PNG has no field for it */
+  } else {
+    snprintf(text, sizeof text, "%s", px.description);
+  }
+  if (raw->full_width <= 0) raw->full_width = px.width, raw->full_height = px.height;
+  raw->has_tile = image_tile_parse(text, &raw->tile);
+  return 1;
+}
+
+int image_write_raw(const char *path, const ImageRaw *raw, char *err, size_t errlen) {
+  ImageFormat fmt = format_of(path);
+  int ac = raw->channels == 2 || raw->channels == 4 ? raw->channels - 1 : -1;
+  if (raw->type == IMAGE_RAW_FLOAT) {
+    if (fmt != FMT_EXR) {
+      set_err(err, errlen, "cannot write '%s': the pixels are floats (from an .exr): write an .exr", path);
+      return 0;
+    }
+    SumiOiioPixels px = {raw->width, raw->height, raw->channels, SUMI_OIIO_FLOAT, ac, raw->data, "", 0, 0, 0, 0, ""};
+    SumiOiioWrite w = {SUMI_OIIO_FLOAT, NULL, "Linear", 0, 0, 0, 0, 0, NULL};   /* as write_exr, the colour already multiplied */
+    return write_atomic(path, &px, &w, NULL, err, errlen);
+  }
+  if (fmt == FMT_EXR || fmt == FMT_NONE || raw->channels > 4) {
+    set_err(err, errlen, "cannot write '%s': the pixels are %d-bit codes: write a .png, .tif or .jpg", path,
+            raw->type == IMAGE_RAW_U16 ? 16 : 8);
+    return 0;
+  }
+  if (raw->type == IMAGE_RAW_U16 || (fmt == FMT_JPEG && ac >= 0)) {   /* as write_encoded gives them */
+    if (fmt == FMT_JPEG) {
+      set_err(err, errlen, "cannot write '%s': JPEG keeps 8 bits and no alpha", path);
+      return 0;
+    }
+    SumiOiioPixels px = {raw->width, raw->height, raw->channels, SUMI_OIIO_UINT16, ac, raw->data, "", 0, 0, 0, 0, ""};
+    SumiOiioWrite w = {0, NULL, "sRGB", 0, 0, 0, 0, 0, NULL};
+    return write_atomic(path, &px, &w, NULL, err, errlen);
+  }
+  Image img = {raw->width, raw->height, raw->channels, NULL, raw->data};
+  return image_write(path, &img, err, errlen);
+}
+
+void image_raw_free(ImageRaw *raw) {
+  free(raw->data);
+  memset(raw, 0, sizeof *raw);
 }

@@ -66,11 +66,34 @@ void image_decode8(const uint8_t *src, float *dst, size_t npix, int nc);
 /* Index of the alpha channel of img (the last of 2 or 4), or -1. */
 int image_alpha_channel(const Image *img);
 
+/* Where an image lies in a larger one: a tile of a frame (render/tile.h).
+** A file keeps it as its format allows, for other programs (PNG: an oFFs
+** chunk; TIFF: XPosition, YPosition and the full size; EXR: the data and
+** display windows), and all of it in its description (PNG's "Description"
+** text, TIFF's and EXR's ImageDescription), as image_tile_format writes
+** it: "sumi tile 3/8 of 640x480 at 0,120 render 9f3a0c5e12b4d7a1". */
+typedef struct ImageTile {
+  int x, y;                   /* its first pixel's place in the frame */
+  int full_width, full_height;   /* the frame's size */
+  char name[32];              /* the tile: "I/N" or "I/CxR" */
+  char render[32];            /* the render it is a part of: the same for all its tiles */
+} ImageTile;
+
+/* t as its description says it, into buf (n bytes); and back: 1 when text
+** is such a description (*t filled), else 0. */
+void image_tile_format(const ImageTile *t, char *buf, size_t n);
+int image_tile_parse(const char *text, ImageTile *t);
+
+/* Does path's format keep a tile's pixels exactly and its place (png,
+** tif, exr; not jpg, which loses both)? */
+int image_keeps_tiles(const char *path);
+
 /* Options for image_write_opts; all-zero means the defaults. */
 typedef struct ImageWriteOptions {
   int bits;                   /* png, tif: 8 (default) or 16 per channel */
   int exr_half;               /* exr: 16-bit half instead of 32-bit float */
   int jpeg_quality;           /* jpg: 1..100, 0 for the default (95) */
+  const ImageTile *tile;      /* the image is this tile of a frame, or NULL */
 } ImageWriteOptions;
 
 /* Does image_write (default options) store path's format as 8-bit codes?
@@ -93,6 +116,9 @@ int image_stream_fits(const char *path, int nc);
 /* Load the bridge and create the file for a w x h image of nc channels;
 ** NULL with the reason in err when that fails. */
 ImageStream *image_stream_open(const char *path, int w, int h, int nc, char *err, size_t errlen);
+/* The same for an image that is tile of a frame (NULL: none). */
+ImageStream *image_stream_open_tile(const char *path, int w, int h, int nc, const ImageTile *tile, char *err,
+                                    size_t errlen);
 /* The next rows, y0..y1-1 (top to bottom, no gaps), as 8-bit codes. A
 ** failure is kept for image_stream_close to report; later rows are dropped. */
 void image_stream_rows(ImageStream *s, int y0, int y1, const uint8_t *codes);
@@ -107,6 +133,31 @@ void image_stream_discard(ImageStream *s);
 ** as stored. Errors say whether the file is missing, not an image, or
 ** corrupt. On failure *out is NULL. */
 int image_read(const char *path, Image **out, char *err, size_t errlen);
+
+/* A file's pixels exactly as it stores them, for stitching tiles (io/
+** assemble.h) without changing a bit: 8- or 16-bit codes, or floats (EXR:
+** colour stays multiplied by alpha), with the file's tile description. */
+enum { IMAGE_RAW_U8 = 1, IMAGE_RAW_U16, IMAGE_RAW_FLOAT };
+typedef struct ImageRaw {
+  int width, height, channels;
+  int type;                   /* IMAGE_RAW_* */
+  void *data;                 /* malloc'ed, interleaved, top row first */
+  int has_tile;               /* the file describes itself as a tile: */
+  ImageTile tile;
+  int x, y;                   /* the format's own record of its place (PNG oFFs, TIFF */
+  int full_width, full_height;   /* position and full size, EXR windows); else 0, 0, its size */
+  char format[16];            /* "png", "tiff", "openexr", ... */
+} ImageRaw;
+
+/* Read path as stored into *raw (image_raw_free); 0 with the reason in err. */
+int image_read_raw(const char *path, ImageRaw *raw, char *err, size_t errlen);
+/* Write raw's pixels to path as they are (no tile description): an 8-bit
+** image gives the bytes image_write gives the same codes, a float one the
+** bytes image_write gives the image those floats were written from. The
+** format comes from path's extension; it must store raw's type (codes in
+** png, tif or jpg; floats in exr). */
+int image_write_raw(const char *path, const ImageRaw *raw, char *err, size_t errlen);
+void image_raw_free(ImageRaw *raw);
 
 /* Arbitrary-output variables: a w x h float EXR of nch channels named by
 ** channel_names (e.g. "Z" or "N.x", "N.y", "N.z"), data interleaved, no

@@ -146,6 +146,14 @@ static ImageSpec make_spec(const char *path, const SumiOiioPixels *px, const Sum
   spec.attribute("oiio:dither", 0);
   if (w && w->colorspace) spec.attribute("oiio:ColorSpace", w->colorspace);
   set_format_attributes(spec, extension_of(path), w ? w->quality : 0);
+  if (w && w->full_width > 0) {   /* a tile of a larger image */
+    spec.x = w->x;
+    spec.y = w->y;
+    spec.full_x = spec.full_y = 0;
+    spec.full_width = w->full_width;
+    spec.full_height = w->full_height;
+  }
+  if (w && w->description) spec.attribute("ImageDescription", w->description);
   return spec;
 }
 
@@ -153,6 +161,7 @@ static ImageSpec make_spec(const char *path, const SumiOiioPixels *px, const Sum
 struct SumiOiioStream {
   std::unique_ptr<ImageOutput> out;
   TypeDesc mem;
+  int y0;                            /* the data window's first row: OIIO counts rows from it */
 };
 
 /* Create the file for px (size and type; data not read) with w's settings. */
@@ -173,11 +182,11 @@ static SumiOiioStream *open_impl(const char *path, const SumiOiioPixels *px, con
     set_err(err, errlen, first_line(out->geterror()));
     return nullptr;
   }
-  return new SumiOiioStream{std::move(out), mem};
+  return new SumiOiioStream{std::move(out), mem, spec.y};
 }
 
 static int rows_impl(SumiOiioStream *s, int y0, int y1, const void *rows, char *err, size_t errlen) {
-  if (s->out->write_scanlines(y0, y1, 0, s->mem, rows)) return 1;
+  if (s->out->write_scanlines(s->y0 + y0, s->y0 + y1, 0, s->mem, rows)) return 1;
   set_err(err, errlen, first_line(s->out->geterror()));
   return 0;
 }
@@ -259,6 +268,12 @@ static int read_impl(const char *path, int want, long long max_pixels, int max_c
   px->type = type;
   px->alpha_channel = spec.alpha_channel;
   std::snprintf(px->format, sizeof px->format, "%s", in->format_name());
+  px->x = spec.x;
+  px->y = spec.y;
+  px->full_width = spec.full_width;
+  px->full_height = spec.full_height;
+  std::snprintf(px->description, sizeof px->description, "%s",
+                spec.get_string_attribute("ImageDescription").c_str());
   in->close();
   (void)in->geterror(); /* drop warnings so OIIO does not print them at exit */
   return SUMI_OIIO_OK;

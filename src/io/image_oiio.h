@@ -24,7 +24,7 @@ extern "C" {
 
 /* Bumped whenever SumiOiioApi or the structs below change shape, so a stale
 ** libsumi_oiio.so from an older build is refused instead of misused. */
-#define SUMI_OIIO_API_VERSION 2
+#define SUMI_OIIO_API_VERSION 3
 
 /* Pixel types crossing the bridge. */
 enum {
@@ -48,6 +48,11 @@ typedef struct SumiOiioPixels {
   int alpha_channel;                 /* index of the alpha channel, or -1 */
   void *data;
   char format[16];                   /* read only: OIIO's format name ("png", "openexr") */
+  /* read only: where the pixels lie in a larger image (a tile: the data
+  ** window's corner and the display window's size; 0, 0 and the image's
+  ** own size otherwise), and the ImageDescription ("" if none) */
+  int x, y, full_width, full_height;
+  char description[256];
 } SumiOiioPixels;
 
 /* How to write: the type stored in the file may differ from the pixels'
@@ -57,6 +62,12 @@ typedef struct SumiOiioWrite {
   const char *const *channel_names;  /* channels entries, or NULL: defaults */
   const char *colorspace;            /* "sRGB", "Linear" or NULL */
   int quality;                       /* JPEG quality 1..100, 0: default */
+  /* a tile of a full_width x full_height image whose first pixel is (x,
+  ** y) there (full_width 0: not a tile), and an ImageDescription (NULL:
+  ** none): TIFF keeps them as XPosition, YPosition, the full size and its
+  ** description tag, EXR as data and display windows and an attribute */
+  int x, y, full_width, full_height;
+  const char *description;
 } SumiOiioWrite;
 
 /* A file being written a band of rows at a time (stream_open). */

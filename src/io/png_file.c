@@ -48,7 +48,8 @@ static void out_free(PngOut *p) {
   free(p);
 }
 
-PngOut *png_out_open(FILE *f, int w, int h, int nc, int bits, char *err, size_t errlen) {
+PngOut *png_out_open(FILE *f, int w, int h, int nc, int bits, const PngPlace *place, char *err,
+                     size_t errlen) {
   static const int color_type[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
                                     PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
   PngOut *p = xcalloc(1, sizeof *p);
@@ -70,6 +71,15 @@ PngOut *png_out_open(FILE *f, int w, int h, int nc, int bits, char *err, size_t 
   png_set_IHDR(p->png, p->info, (png_uint_32)w, (png_uint_32)h, bits, color_type[nc], PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_sRGB_gAMA_and_cHRM(p->png, p->info, PNG_sRGB_INTENT_PERCEPTUAL);
+  if (place) {   /* a tile: its offset (oFFs, in pixels) and the text that places it */
+    png_set_oFFs(p->png, p->info, place->x, place->y, PNG_OFFSET_PIXEL);
+    png_text t;
+    memset(&t, 0, sizeof t);
+    t.compression = PNG_TEXT_COMPRESSION_NONE;
+    t.key = (png_charp)place->key;
+    t.text = (png_charp)place->text;
+    png_set_text(p->png, p->info, &t, 1);
+  }
   png_set_filter(p->png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   png_set_compression_level(p->png, PNG_LEVEL);
   png_write_info(p->png, p->info);
@@ -143,6 +153,36 @@ static int read_layout(PngIn *r, int w, int *nc, int *bits) {
   *bits = png_get_bit_depth(r->png, r->info);
   return *nc >= 1 && *nc <= 4 && (*bits == 8 || *bits == 16) &&
          png_get_rowbytes(r->png, r->info) == (size_t)w * (size_t)*nc * (size_t)(*bits / 8);
+}
+
+int png_read_place(const char *path, const char *key, char *out, size_t n, int *x, int *y) {
+  PngIn r;
+  memset(&r, 0, sizeof r);
+  volatile int found = 0;   /* set between setjmp and a longjmp */
+  if (n) out[0] = 0;
+  if (!(r.f = fopen(path, "rb"))) return 0;
+  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r.msg, on_error, on_warning);
+  r.info = r.png ? png_create_info_struct(r.png) : NULL;
+  if (!r.info || setjmp(png_jmpbuf(r.png))) {
+    in_free(&r);
+    return 0;
+  }
+  png_init_io(r.png, r.f);
+  png_read_info(r.png, r.info);   /* the chunks before the image data */
+  png_int_32 ox = 0, oy = 0;
+  int unit = 0;
+  *x = *y = 0;
+  if (png_get_oFFs(r.png, r.info, &ox, &oy, &unit) && unit == PNG_OFFSET_PIXEL) *x = ox, *y = oy;
+  png_textp text;
+  int count = 0;
+  png_get_text(r.png, r.info, &text, &count);
+  for (int i = 0; i < count && !found; i++)
+    if (!strcmp(text[i].key, key)) {
+      snprintf(out, n, "%s", text[i].text ? text[i].text : "");
+      found = 1;
+    }
+  in_free(&r);
+  return found;
 }
 
 int png_read_file(const char *path, long long max_pixels, int *w, int *h, int *nc, int *bits,

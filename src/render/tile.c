@@ -5,7 +5,6 @@
 */
 #include "tile.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,70 +16,8 @@
 #include "stats.h"
 #include "stroke.h"
 
-/* ---- the split ------------------------------------------------------------- */
-
-/* A whole number from 1 to TILE_MAX_COUNT at *p, up to a character of
-** stop (or the end); 0 when there is none. */
-static long tile_number(const char **p, const char *stop) {
-  char *end;
-  errno = 0;
-  long n = strtol(*p, &end, 10);
-  if (end == *p || errno || (*end && !strchr(stop, *end)) || **p == '-' || **p == '+') return -1;
-  *p = end;
-  return n;
-}
-
-int tile_parse(const char *spec, TileSpec *t, char *err, size_t errlen) {
-  const char *p = spec;
-  long i = tile_number(&p, "/"), c = 1, r = -1;
-  if (i >= 0 && *p == '/') {
-    p++;
-    r = tile_number(&p, "x");
-    if (r >= 0 && *p == 'x') {
-      p++;
-      c = r;
-      r = tile_number(&p, "");
-    }
-  }
-  if (i < 0 || r < 0 || *p) {
-    snprintf(err, errlen, "--tile takes I/N (tile I of N rows of tiles) or I/CxR (of C columns and R rows), "
-             "not `%s`", spec);
-    return 0;
-  }
-  if (c < 1 || r < 1 || c * r > TILE_MAX_COUNT) {
-    snprintf(err, errlen, "--tile %s: a split needs 1 to %d tiles", spec, TILE_MAX_COUNT);
-    return 0;
-  }
-  if (i < 1 || i > c * r) {
-    snprintf(err, errlen, "--tile %s: there is no tile %ld of %ld (tiles are numbered 1 to %ld)", spec, i,
-             c * r, c * r);
-    return 0;
-  }
-  t->index = (int)i;
-  t->cols = (int)c;
-  t->rows = (int)r;
-  return 1;
-}
-
-void tile_format(const TileSpec *t, char *buf, size_t n) {
-  if (t->cols == 1) snprintf(buf, n, "%d/%d", t->index, t->rows);
-  else snprintf(buf, n, "%d/%dx%d", t->index, t->cols, t->rows);
-}
-
 int tile_rect(const TileSpec *t, int w, int h, RenderWindow *r, char *err, size_t errlen) {
-  char name[64];
-  tile_format(t, name, sizeof name);
-  if (w < t->cols || h < t->rows) {
-    snprintf(err, errlen, "--tile %s: a %d x %d frame has fewer %s (%d) than the split has tiles across it (%d)",
-             name, w, h, w < t->cols ? "columns" : "rows", w < t->cols ? w : h, w < t->cols ? t->cols : t->rows);
-    return 0;
-  }
-  int c = (t->index - 1) % t->cols, k = (t->index - 1) / t->cols;
-  r->x0 = (int)((long long)c * w / t->cols);
-  r->x1 = (int)((long long)(c + 1) * w / t->cols);
-  r->y0 = (int)((long long)k * h / t->rows);
-  r->y1 = (int)((long long)(k + 1) * h / t->rows);
-  return 1;
+  return tile_split_rect(t, w, h, &r->x0, &r->y0, &r->x1, &r->y1, err, errlen);
 }
 
 /* ---- the window ---------------------------------------------------------------- */

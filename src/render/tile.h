@@ -28,31 +28,14 @@
 
 #include <stddef.h>
 
+#include "../base/split.h"
 #include "render.h"
 
 /* Rows a tile job draws and writes at a time (a multiple of RENDER_TILE). */
 #define TILE_BAND_ROWS 64
-/* Most tiles a split may have (columns times rows). */
-#define TILE_MAX_COUNT 65536
-
-/* Tile `index` (1 .. cols * rows, row by row from the top left) of a split
-** into cols x rows tiles; "I/N" is cols 1, rows N. */
-typedef struct TileSpec {
-  int index, cols, rows;
-} TileSpec;
-
-/* Parse "I/N" or "I/CxR" into *t: 1 on success, else 0 with the reason
-** in err (a tile that does not exist, a count of 0, not a tile). */
-int tile_parse(const char *spec, TileSpec *t, char *err, size_t errlen);
-
-/* The pixels of tile t in a w x h frame: columns and rows split as evenly
-** as whole pixels allow (tile column c spans [c w / C, (c + 1) w / C)).
-** 1, or 0 with the reason in err when the frame has fewer columns or rows
-** than the split. */
+/* The pixels of tile t (base/split.h) in a w x h frame, as a window; 0
+** with the reason in err when the frame is smaller than the split. */
 int tile_rect(const TileSpec *t, int w, int h, RenderWindow *r, char *err, size_t errlen);
-
-/* "I/N" or "I/CxR" for t, into buf. */
-void tile_format(const TileSpec *t, char *buf, size_t n);
 
 /* render_scene for a window of the frame (o->window): prepared f (its
 ** background made transparent when canvas), into *out (the window's
