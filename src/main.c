@@ -675,6 +675,8 @@ static int cmd_watch(const Options *o) {
 ** their frame (io/assemble.h). */
 static int cmd_assemble(const Options *o) {
   char err[1200];
+  tempfile_handle_signals();   /* an interrupted write removes its temporary */
+  if (!output_writable(o->output)) return 1;
   if (assemble_tiles(o->inputs, o->ninputs, o->output, err, sizeof err)) return 0;
   fprintf(stderr, "sumi: assemble: %s\n", err);
   return 1;
