@@ -719,7 +719,7 @@ TEST(png_needs_no_bridge) {
   CHECK(image_write(tmp_path("plain.png"), img, err, sizeof err));
   CHECK(image_read(tmp_path("plain.png"), &back, err, sizeof err) && same_pixels(img, back));
   image_destroy(back);
-  ImageWriteOptions o16 = {16, 0, 0};
+  ImageWriteOptions o16 = { .bits = 16 };
   CHECK(image_write_opts(tmp_path("deep.png"), img, &o16, err, sizeof err));
   Image *codes = codes_image(8, 8, 3, 3);
   ImageStream *s = image_stream_open(tmp_path("band.png"), 8, 8, 3, err, sizeof err);
