@@ -431,7 +431,7 @@ TEST(illustration_corner_brightness) {
   st.shade.kind = SHADE_ORIGAMI;
   st.shade.origami_mode = 1;
   Mat4 c = view_box(0, 0, 1, 1);
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = NULL, .depth = NULL, .pixel_scale = 1};
   CHECK_EQ_INT(origami_render(m, &st, &c, NULL, &t), w * h);
   float *px = rgba + ((size_t)(h - 1) * w + 0) * 4;         /* pixel at (0, 0) */
   double want = fmin(1, 0.675 * 0.75 + 0.225 * (1 / sqrt(2.0)) + 0.15);
@@ -462,7 +462,7 @@ static void render_piece(int start, float *rgba) {
   st.shade.kind = SHADE_ORIGAMI;
   st.shade.origami_mode = 1;
   Mat4 c = view_box(-0.5, -0.2, 2.6, 2.2);
-  OrigamiTarget t = {96, 96, rgba, NULL, NULL, 1};
+  OrigamiTarget t = {.width = 96, .height = 96, .rgba = rgba, .face_id = NULL, .depth = NULL, .pixel_scale = 1};
   origami_render(m, &st, &c, NULL, &t);
   origami_free(m);
 }
@@ -514,7 +514,7 @@ TEST(pseudo_shading) {
   st.shade.origami_mode = 1;
   st.shade.origami_radius = 6;
   Mat4 c = view_box(0, 0, 4, 4);
-  OrigamiTarget t = {w, h, ill, ids, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = ill, .face_id = ids, .depth = NULL, .pixel_scale = 1};
   origami_render(m, &st, &c, NULL, &t);
   st.shade.origami_mode = 2;
   t.rgba = sh;
@@ -550,7 +550,7 @@ static float *line_mode(const OrigamiModel *m, Mat4 c, int w, int h) {
   memset(&st, 0, sizeof st);
   st.shade.kind = SHADE_ORIGAMI;
   st.shade.origami_mode = 0;
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = NULL, .depth = NULL, .pixel_scale = 1};
   origami_render(m, &st, &c, NULL, &t);
   return rgba;
 }
@@ -645,7 +645,7 @@ TEST(outline_as_wide_as_inner_lines) {
         float *rgba = xcalloc((size_t)w * h * 4, sizeof *rgba), *depth = xmalloc((size_t)w * h * sizeof *depth);
         for (int i = 0; i < w * h; i++) depth[i] = behind[k];
         st.lines.width = lw;
-        OrigamiTarget t = {w, h, rgba, NULL, depth, N};
+        OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = NULL, .depth = depth, .pixel_scale = N};
         origami_render(m, &st, &c, NULL, &t);
         int outer = ink_in_row(rgba, w, y, unit / 2, unit * 3 / 2);        /* about x = 0 */
         int inner = ink_in_row(rgba, w, y, unit * 3 / 2, unit * 5 / 2);    /* about x = 1 */
@@ -683,7 +683,7 @@ TEST(texture_on_the_front) {
   st.shade.kind = SHADE_ORIGAMI;
   st.shade.origami_mode = 0;                                 /* flat colour: the texture alone */
   Mat4 c = view_box(0, 0, 1, 1);
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = NULL, .depth = NULL, .pixel_scale = 1};
   origami_render(m, &st, &c, tex, &t);
   float *mid = rgba + ((size_t)(h / 2) * w + w / 2) * 4;
   CHECK(mid[0] > 0.9f && mid[2] < 0.1f);                     /* red: face 2 on top */
@@ -717,7 +717,7 @@ TEST(draw_scene) {
   int32_t *ids = xmalloc((size_t)w * h * sizeof *ids);
   for (int k = 0; k < w * h; k++) ids[k] = -1;
   Mat4 c = view_box(0, 0, 2, 1);
-  OrigamiTarget t = {w, h, rgba, ids, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = ids, .depth = NULL, .pixel_scale = 1};
   CHECK_EQ_INT(origami_draw_scene(&sc, &c, &t), 1);
   CHECK_EQ_INT(ids[10 * w + 5], -1);                         /* x = 0.25: empty */
   CHECK_EQ_INT(ids[10 * w + 30], 2);                         /* x = 1.5: the top face */
@@ -820,7 +820,7 @@ TEST(mid_grey_stays_mid_grey) {
   st.shade.origami_mode = 0;                                 /* line mode: the colour alone */
   st.shade.origami_color = (Color){grey, grey, grey, 1};
   Mat4 c = view_box(0, 0, 1, 1);
-  OrigamiTarget t = {w, h, rgba, NULL, NULL, 1};
+  OrigamiTarget t = {.width = w, .height = h, .rgba = rgba, .face_id = NULL, .depth = NULL, .pixel_scale = 1};
   origami_render(m, &st, &c, NULL, &t);
   float *mid = rgba + ((size_t)(h / 2) * w + w / 2 + 2) * 4;
   CHECK_NEAR(mid[0], grey, 1e-5);
