@@ -14,10 +14,17 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
 # lanes give the same IEEE results as one value at a time.
 VECTOR  := -fno-math-errno -fno-trapping-math -fvect-cost-model=cheap
 CFLAGS  ?= -O2 -g
-CFLAGS  += -std=c11 -D_DEFAULT_SOURCE $(WARN) $(VECTOR) -MMD -MP -pthread -I/usr/include/libxml2
+# Headers of the Debian libraries that keep theirs in a folder of their own.
+INCLUDES := -I/usr/include/libxml2 -I/usr/include/freetype2 -I/usr/include/harfbuzz
+CFLAGS  += -std=c11 -D_DEFAULT_SOURCE $(WARN) $(VECTOR) -MMD -MP -pthread $(INCLUDES)
 CXXFLAGS ?= -O2 -g
 CXXFLAGS += -std=c++17 -Wall -Wextra -MMD -MP -fPIC
-LDLIBS  := -lxml2 -lpotrace -lpng16 -lcjson -losdCPU -lassimp -ldl -lm -pthread -lstdc++
+# The 2D bridge: Clipper's header, and CGAL's interval arithmetic, which
+# needs the rounding mode honoured (its start-up check of it is off, as
+# valgrind, for make valgrind, does not emulate rounding modes).
+P2D_FLAGS := -I/usr/include/polyclipping -frounding-math -DCGAL_DISABLE_ROUNDING_MATH_CHECK
+LDLIBS  := -lxml2 -lpotrace -lpng16 -lcjson -losdCPU -lassimp -lpolyclipping -lgmp -lmpfr \
+           -lharfbuzz -lfontconfig -lfreetype -ldl -lm -pthread -lstdc++
 
 ifeq ($(SANITIZE),1)
 BUILD   := build/san
@@ -31,8 +38,9 @@ LDFLAGS += $(SAN)
 endif
 
 CORE_C   := $(filter-out src/main.c,$(wildcard src/*/*.c))
-CORE_CXX := src/geom/osd_bridge.cpp
-CORE_OBJ := $(CORE_C:%.c=$(BUILD)/%.o) $(patsubst %.cpp,$(BUILD)/%.o,$(wildcard $(CORE_CXX)))
+# The C++ bridges behind C headers (the image bridge is a library of its own).
+CORE_CXX := $(filter-out src/io/image_oiio.cpp,$(wildcard src/*/*.cpp))
+CORE_OBJ := $(CORE_C:%.c=$(BUILD)/%.o) $(CORE_CXX:%.cpp=$(BUILD)/%.o)
 MAIN_OBJ := $(BUILD)/src/main.o
 OIIO_LIB := $(BUILD)/libsumi_oiio.so
 UNIT_SRC := $(wildcard tests/unit/test_*.c)
@@ -41,7 +49,8 @@ TOOLS    := $(BUILD)/imgcmp
 
 DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
                    libassimp-dev libxml2-dev libpotrace-dev librsvg2-bin clang libclang-rt-14-dev \
-                   assimp-testmodels python3-skimage
+                   assimp-testmodels python3-skimage libpolyclipping-dev libcgal-dev libgmp-dev libmpfr-dev \
+                   libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
 
 .PHONY: all deps test test-unit update-snapshots update-golden fuzz valgrind bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp
@@ -69,6 +78,8 @@ $(BUILD)/%.o: %.c
 $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS) -c -o $@ $<
+
+$(BUILD)/src/geom/poly2d_bridge.o: CXXFLAGS += $(P2D_FLAGS)
 
 $(BUILD)/unit/%: tests/unit/%.c tests/unit/unit.h $(CORE_OBJ) | $(OIIO_LIB) $(BUILD)/stdlib
 	@mkdir -p $(dir $@)
@@ -116,8 +127,8 @@ FUZZ_SECONDS ?= 60
 FUZZ_DIR     := build/fuzz
 FUZZ_TARGETS ?= parse eval fold mesh image
 FUZZ_SAN     := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all
-FUZZ_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE -I/usr/include/libxml2 -g -O1 -pthread $(FUZZ_SAN) -fsanitize=fuzzer-no-link
-FUZZ_OBJ     := $(CORE_C:%.c=$(FUZZ_DIR)/%.o) $(FUZZ_DIR)/src/geom/osd_bridge.o
+FUZZ_CFLAGS  := -std=c11 -D_DEFAULT_SOURCE $(INCLUDES) -g -O1 -pthread $(FUZZ_SAN) -fsanitize=fuzzer-no-link
+FUZZ_OBJ     := $(CORE_C:%.c=$(FUZZ_DIR)/%.o) $(CORE_CXX:%.cpp=$(FUZZ_DIR)/%.o)
 FUZZ_BIN     := $(FUZZ_TARGETS:%=$(FUZZ_DIR)/fuzz_%)
 # Seeds: the text a target reads, from the tests (meshes also from
 # assimp-testmodels' OBJ folder when installed).
@@ -133,7 +144,7 @@ $(FUZZ_DIR)/%.o: %.c
 
 $(FUZZ_DIR)/%.o: %.cpp
 	@mkdir -p $(dir $@)
-	clang++ -std=c++17 -g -O1 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c -o $@ $<
+	clang++ -std=c++17 $(P2D_FLAGS) -g -O1 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c -o $@ $<
 
 $(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_OBJ)
 	clang $(FUZZ_CFLAGS) -c -o $@.o $<
