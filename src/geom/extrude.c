@@ -138,9 +138,23 @@ static int too_many(double nverts, char *err, size_t errlen) {
 
 /* ---- linear_extrude --------------------------------------------------------- */
 
+/* cos and sin of d degrees, exact at multiples of 90 (a quarter turn
+** lands on the axis, not 6e-17 beside it). */
+static void cos_sin_deg(double d, double *c, double *s) {
+  double q = d / 90;
+  if (q == floor(q) && fabs(q) < 1e15) {
+    static const double C[4] = {1, 0, -1, 0}, S[4] = {0, 1, 0, -1};
+    long long k = ((long long)q % 4 + 4) % 4;
+    *c = C[k], *s = S[k];
+    return;
+  }
+  *c = cos(d * M_PI / 180), *s = sin(d * M_PI / 180);
+}
+
 /* Where point q of the shape lands at height fraction t. */
 static Vec2 slice_point(const ExtrudeLinear *p, Vec2 q, double t) {
-  double a = -p->twist * t * M_PI / 180, c = cos(a), s = sin(a);
+  double c, s;
+  cos_sin_deg(-p->twist * t, &c, &s);
   double sx = 1 + (p->scale.x - 1) * t, sy = 1 + (p->scale.y - 1) * t;
   return (Vec2){sx * (c * q.x - s * q.y), sy * (s * q.x + c * q.y)};
 }
@@ -155,8 +169,47 @@ static int is_hole(const SceneGeometry *s, int c) {
   return area < 0;
 }
 
+/* A twisted side folds where its quads split, by about twist x edge /
+** height (radians), whatever the slices: so edges are cut into pieces of
+** at most this fold, 10 degrees. */
+#define EXTRUDE_TWIST_FOLD 0.1745
+
+/* shape with each contour edge longer than len cut into equal pieces (a
+** contours-only copy; NULL when none is that long). */
+static SceneGeometry *refined(Arena *a, const SceneGeometry *shape, double len, char *err, size_t errlen) {
+  int n = shape->contour_start[shape->ncontours];
+  double total = 0;
+  for (int c = 0; c < shape->ncontours; c++)
+    for (int i = shape->contour_start[c]; i < shape->contour_start[c + 1]; i++) {
+      Vec2 p = shape->contour_pts[i], q = shape->contour_pts[next_in(shape, c, i)];
+      total += ceil(hypot(q.x - p.x, q.y - p.y) / len);
+    }
+  if (total == n) return NULL;
+  if (too_many(total, err, errlen)) return (SceneGeometry *)shape;   /* reported */
+  SceneGeometry *g = arena_alloc(a, sizeof *g);
+  *g = *shape;
+  g->contour_start = arena_alloc(a, (size_t)(shape->ncontours + 1) * sizeof *g->contour_start);
+  g->contour_pts = arena_alloc(a, (size_t)total * sizeof *g->contour_pts);
+  int m = 0;
+  for (int c = 0; c < shape->ncontours; c++) {
+    g->contour_start[c] = m;
+    for (int i = shape->contour_start[c]; i < shape->contour_start[c + 1]; i++) {
+      Vec2 p = shape->contour_pts[i], q = shape->contour_pts[next_in(shape, c, i)];
+      int k = (int)ceil(hypot(q.x - p.x, q.y - p.y) / len);
+      for (int j = 0; j < k; j++) g->contour_pts[m++] = (Vec2){p.x + (q.x - p.x) * j / k, p.y + (q.y - p.y) * j / k};
+    }
+  }
+  g->contour_start[shape->ncontours] = m;
+  return g;
+}
+
 SceneGeometry *extrude_linear(Arena *a, const SceneGeometry *shape, const ExtrudeLinear *p, char *err, size_t errlen) {
   if (shape2d_is_empty(shape)) return mesh_new(a, 0, 0, 0);
+  if (p->twist != 0) {
+    SceneGeometry *r = refined(a, shape, EXTRUDE_TWIST_FOLD * p->height / fabs(p->twist * M_PI / 180), err, errlen);
+    if (r == shape) return NULL;
+    if (r) shape = r;
+  }
   Cap cap;
   int n = shape->contour_start[shape->ncontours], S = p->slices;
   if (too_many((double)(S + 1) * n, err, errlen) || cap_make(shape, &cap, err, errlen)) return NULL;
@@ -251,17 +304,19 @@ SceneGeometry *extrude_rotate(Arena *a, const SceneGeometry *shape, double angle
   SceneGeometry *g = mesh_new(a, rings * n + 2 * cap.nextra, 2 * cap.ntris + segments * n,
                               6 * cap.ntris + 4 * segments * n);
   for (int r = 0; r < rings; r++) {
-    double th = angle * r / segments * M_PI / 180, c = cos(th), sn = sin(th);
+    double c, sn;
+    cos_sin_deg(angle * r / segments, &c, &sn);
     for (int i = 0; i < n; i++) {
       Vec2 q = s->contour_pts[i];
       g->verts[r * n + i] = v3(q.x * c, q.x * sn, q.y);
     }
   }
-  double th1 = angle * M_PI / 180;
+  double c1, s1;
+  cos_sin_deg(angle, &c1, &s1);
   for (int e = 0; e < cap.nextra; e++) {
     Vec2 q = cap.extra[e];
     g->verts[rings * n + e] = v3(q.x, 0, q.y);
-    g->verts[rings * n + cap.nextra + e] = v3(q.x * cos(th1), q.x * sin(th1), q.y);
+    g->verts[rings * n + cap.nextra + e] = v3(q.x * c1, q.x * s1, q.y);
   }
   int flip = angle < 0;   /* sweeping clockwise turns every face */
 #define VID(r, i) (s->contour_pts[i].x == 0 ? (i) : ((r) % rings) * n + (i))

@@ -12,9 +12,8 @@
 _Static_assert(sizeof(Vec2) == 2 * sizeof(double), "Vec2 is two doubles");
 
 int shape2d_fragments(double r, double fn, double fa, double fs) {
-  if (fn > 0) return fn < 3 ? 3 : fn > SHAPE2D_MAX_POINTS ? SHAPE2D_MAX_POINTS : (int)fn;
-  double n = fmax(fmin(360.0 / fa, 2 * M_PI * r / fs), 5);
-  return n > SHAPE2D_MAX_POINTS ? SHAPE2D_MAX_POINTS : (int)ceil(n);
+  double n = fn > 0 ? fmax(floor(fn), 3) : ceil(fmax(fmin(360.0 / fa, 2 * M_PI * r / fs), 5));
+  return n > SHAPE2D_MAX_POINTS ? -1 : (int)n;
 }
 
 int shape2d_is_empty(const SceneGeometry *g) {

@@ -20,7 +20,8 @@
 ** fn > 0 (at least 3); else from the largest angle fa (degrees) and the
 ** longest side fs a segment may have: ceil(max(min(360 / fa, 2 pi r /
 ** fs), 5)). The builtins pass OpenSCAD's fa = 12, fs = 2 when a call gives
-** one of them and SHAPE2D_SEGMENTS when it gives neither. */
+** one of them and SHAPE2D_SEGMENTS when it gives neither. -1 when that
+** is more than SHAPE2D_MAX_POINTS. */
 #define SHAPE2D_SEGMENTS 64
 int shape2d_fragments(double r, double fn, double fa, double fs);
 

@@ -975,12 +975,13 @@ static int nall_builtins;
 static pthread_once_t all_once = PTHREAD_ONCE_INIT;
 
 static void join_tables(void) {
-  int nm, nb = (int)(sizeof builtins / sizeof builtins[0]);
-  const Builtin *model = builtin_model_table(&nm);
-  all_builtins = xmalloc((size_t)(nb + nm) * sizeof *all_builtins);
+  int nm, n2, nb = (int)(sizeof builtins / sizeof builtins[0]);
+  const Builtin *model = builtin_model_table(&nm), *two = builtin_2d_table(&n2);
+  all_builtins = xmalloc((size_t)(nb + nm + n2) * sizeof *all_builtins);
   memcpy(all_builtins, builtins, sizeof builtins);
   memcpy(all_builtins + nb, model, (size_t)nm * sizeof *model);
-  nall_builtins = nb + nm;
+  memcpy(all_builtins + nb + nm, two, (size_t)n2 * sizeof *two);
+  nall_builtins = nb + nm + n2;
 }
 
 const Builtin *builtin_table(int *n) {

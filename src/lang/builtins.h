@@ -28,11 +28,14 @@ struct Builtin {
   int kind;                  /* BI_FUNCTION ... */
 };
 
-/* Every builtin: this file's table and builtins_model.c's. */
+/* Every builtin: this file's table, builtins_model.c's and builtins_2d.c's. */
 const Builtin *builtin_table(int *n);
 /* The modelling builtins (shapes, CSG, 2D, extrusion, text, transforms of
 ** builtins_model.c), which builtin_table adds to the rest. */
 const Builtin *builtin_model_table(int *n);
+/* The 2D builtins (circle, square, polygon, text, offset, the extrusions)
+** of builtins_2d.c. */
+const Builtin *builtin_2d_table(int *n);
 int builtin_index(const char *name);          /* -1 when not a builtin */
 int builtin_param(const Builtin *bi, const char *name);   /* -1 when unknown */
 /* Nonzero for a builtin that reads no element of its arguments (len, is_*):

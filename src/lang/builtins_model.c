@@ -170,12 +170,14 @@ static Value bi_multmatrix(Eval *ev, Value *a, int n, const ENode *call) {
 
 /* ---- the table ---------------------------------------------------------- */
 
+/* The round shapes are exact surfaces: OpenSCAD's `$fn`, `$fa`, `$fs` are
+** taken and change nothing (an object's `tessellate` sets the triangles). */
 static const Builtin model_builtins[] = {
-  {"sphere", bi_sphere, "r,d", 0, 2, BI_FUNCTION},
+  {"sphere", bi_sphere, "r,d,$fn,$fa,$fs", 0, 5, BI_FUNCTION},
   {"cube", bi_cube, "size,center", 0, 2, BI_FUNCTION},
-  {"cylinder", bi_cylinder, "h,r1,r2,center,r,d,d1,d2", 0, 8, BI_FUNCTION},
-  {"cone", bi_cone, "h,r,center,d", 0, 4, BI_FUNCTION},
-  {"torus", bi_torus, "R,r", 0, 2, BI_FUNCTION},
+  {"cylinder", bi_cylinder, "h,r1,r2,center,r,d,d1,d2,$fn,$fa,$fs", 0, 11, BI_FUNCTION},
+  {"cone", bi_cone, "h,r,center,d,$fn,$fa,$fs", 0, 7, BI_FUNCTION},
+  {"torus", bi_torus, "R,r,$fn,$fa,$fs", 0, 5, BI_FUNCTION},
   {"plane", bi_plane, "size", 0, 1, BI_FUNCTION},
   {"polyhedron", bi_polyhedron, "points,faces,convexity", 2, 3, BI_FUNCTION},
   {"mirror", bi_mirror, "v", 1, 1, BI_FUNCTION},

@@ -42,15 +42,16 @@ static const Habit habits[] = {
   {HABIT_MODULE, "color", LOOK},
   {HABIT_MODULE, "union|difference|intersection|hull|minkowski|render",
    "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
-  {HABIT_MODULE, "text", "sumi draws no text (`echo(…)` prints it)"},
-  {HABIT_MODULE, "linear_extrude|rotate_extrude|circle|square|polygon|projection|offset",
-   "sumi has no 2D shapes or extrusions: `mesh(points, faces)` builds a polygon mesh"},
+  {HABIT_MODULE, "projection", "sumi has no projection of a 3D shape to 2D: draw the 2D shape itself "
+                               "(circle, square, polygon, text) and `linear_extrude` it"},
   {HABIT_MODULE, "import", "a mesh file is read by `mesh(\"file.obj\")`, the geometry of an object"},
   {HABIT_ARGS, "rotate", "`rotate([ax, ay, az])` turns about x, then y, then z, in degrees; `rotate(a)` about z; "
                          "`rotate(a, [x, y, z])` about an axis"},
   {HABIT_ARGS, "translate", "`translate([x, y, z])` takes one vector"},
   {HABIT_ARGS, "scale", "`scale(s)` or `scale([sx, sy, sz])` takes one number or vector"},
-  {HABIT_TOKEN, "$fn|$fa|$fs", "an object's triangles are `tessellate N;` or `tessellate adaptive(pixels);`"},
+  {HABIT_TOKEN, "$fn|$fa|$fs", "`$fn`, `$fa` and `$fs` are named arguments of the calls that take them "
+                                "(`circle(1, $fn = 64)`), not variables; an object's triangles are `tessellate N;` "
+                                "or `tessellate adaptive(pixels);`"},
   {HABIT_TOKEN, "function", "a function is `fn name(x) = …;`"},
   {HABIT_TOKEN, "include <|use <", "a file name is a string: `include \"file.npr\";`"},
   /* names a library defines (names: the library file): "`red` is …" */

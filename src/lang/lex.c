@@ -126,6 +126,7 @@ void lex_init(Lexer *lx, int file, Arena *arena) {
   lx->arena = arena;
   lx->quiet = 0;
   lx->errors = 0;
+  lx->prev = TK_EOF;
   lx->names = xcalloc(1, sizeof *lx->names);
   lx->names->mask = 255;
   lx->names->slots = xcalloc(lx->names->mask + 1, sizeof(LexName));
@@ -421,9 +422,11 @@ static void lex_color(Lexer *lx, Token *t) {
   }
 }
 
+/* IDENT = letter { letter | digit } | '$' letter { letter | digit } */
 static void lex_ident(Lexer *lx, Token *t) {
   const char *start = lx->p, *s = start;
   uint32_t h = 2166136261u;   /* name_hash, computed while scanning */
+  if (*s == '$') h = (h ^ (unsigned char)*s++) * 16777619u;
   /* identifiers are ASCII: step bytes directly */
   for (; char_class[(unsigned char)*s] & CC_IDENT; s++) h = (h ^ (unsigned char)*s) * 16777619u;
   size_t len = (size_t)(s - start);
@@ -438,6 +441,17 @@ static void lex_ident(Lexer *lx, Token *t) {
   const LexName *name = names_lookup(lx, start, len, h);
   t->kind = (TokenKind)name->kind;
   if (t->kind == TK_IDENT) t->string = (char *)name->text;
+}
+
+/* OpenSCAD's special variables (`$fn`) are names only where a named
+** argument stands: after `(` or `,` and before a lone `=`. Elsewhere the
+** `$` is a stray character with a hint. */
+static int special_name_here(const Lexer *lx) {
+  const char *s = lx->p + 1;
+  if ((lx->prev != TK_LPAREN && lx->prev != TK_COMMA) || !is_ident_start((unsigned char)*s)) return 0;
+  while (is_ident_char((unsigned char)*s)) s++;
+  while (*s == ' ' || *s == '\t') s++;   /* the source ends in a NUL */
+  return s[0] == '=' && s[1] != '=';
 }
 
 /* Report the character at p as unexpected and step over it. */
@@ -515,12 +529,13 @@ void lex_next(Lexer *lx, Token *t) {
       return;
     }
     if (is_digit(c) || (c == '.' && is_digit(peekc2(lx)))) lex_number(lx, t);
-    else if (is_ident_start(c)) lex_ident(lx, t);
+    else if (is_ident_start(c) || (c == '$' && special_name_here(lx))) lex_ident(lx, t);
     else if (c == '"') lex_string(lx, t);
     else if (c == '#') lex_color(lx, t);
     else if (!lex_operator(lx, t)) { lex_stray(lx); continue; }
     t->len = (int)(lx->p - t->start);
     t->bad = lx->errors > errors_before;
+    lx->prev = t->kind;
     return;
   }
 }

@@ -57,6 +57,7 @@ typedef struct Lexer {
   LexNames *names;     /* interned identifiers, shared by copies of the lexer */
   int quiet;           /* lookahead: report nothing */
   int errors;          /* errors reported so far */
+  TokenKind prev;      /* the last token scanned (TK_EOF at the start) */
 } Lexer;
 
 /* The source must end in a NUL byte (diag_add_file's contract): the lexer
