@@ -255,11 +255,13 @@ SceneGeometry *extrude_linear(Arena *a, const SceneGeometry *shape, const Extrud
     if (!point_top) face3(g, u[0], u[1], u[2]);
   }
   /* sides: each contour edge i -> j, each slice k. A bent quad is split
-  ** along the diagonal OpenSCAD takes: from the top of i to the bottom of
-  ** j where the twist turns clockwise on an outer contour (or the other
-  ** way on a hole), else from the bottom of i to the top of j. */
+  ** along the diagonal OpenSCAD 2021 takes (the one that bulges out, so
+  ** the solid is a little larger than the smooth one): from the bottom of
+  ** i to the top of j where the twist turns clockwise on an outer contour
+  ** (or the other way on a hole), else from the top of i to the bottom of
+  ** j. */
   for (int c = 0; c < shape->ncontours; c++) {
-    int down = (p->twist > 0) != is_hole(shape, c);
+    int down = (p->twist < 0) != is_hole(shape, c);
     for (int i = shape->contour_start[c]; i < shape->contour_start[c + 1]; i++) {
       int j = next_in(shape, c, i);
       for (int k = 0; k < S; k++) {

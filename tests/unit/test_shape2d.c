@@ -192,15 +192,16 @@ TEST(frustum_and_pyramid_volume) {
 /* The prismatoid formula: a solid whose vertices all lie in two parallel
 ** planes h apart has volume h (A0 + 4 Am + A1) / 6, Am the area halfway,
 ** whose corners are the midpoints of the side edges. For a slice of the
-** twisted square p turned by -d degrees, split from the top of each corner
-** to the bottom of the next, those run b_i t_i, b_i+1 t_i, ... */
+** twisted square p turned by -d degrees, split from the bottom of each
+** corner to the top of the next, those run b_i t_i, b_i t_i+1, ... */
 static double twisted_slice_volume(const Vec2 *p, int n, double d, double h) {
   double c = cos(-d * M_PI / 180), s = sin(-d * M_PI / 180), am = 0, a = 0;
   Vec2 *m = malloc(2 * (size_t)n * sizeof *m);
   for (int i = 0; i < n; i++) {
-    Vec2 b = p[i], bn = p[(i + 1) % n], t = {c * b.x - s * b.y, s * b.x + c * b.y};
+    Vec2 b = p[i], bn = p[(i + 1) % n];
+    Vec2 t = {c * b.x - s * b.y, s * b.x + c * b.y}, tn = {c * bn.x - s * bn.y, s * bn.x + c * bn.y};
     m[2 * i] = (Vec2){(b.x + t.x) / 2, (b.y + t.y) / 2};
-    m[2 * i + 1] = (Vec2){(bn.x + t.x) / 2, (bn.y + t.y) / 2};
+    m[2 * i + 1] = (Vec2){(b.x + tn.x) / 2, (b.y + tn.y) / 2};
     a += (b.x * bn.y - bn.x * b.y) / 2;
   }
   for (int i = 0; i < 2 * n; i++) am += (m[i].x * m[(i + 1) % (2 * n)].y - m[(i + 1) % (2 * n)].x * m[i].y) / 2;
