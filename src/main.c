@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/frames.h"
 #include "base/mem.h"
 #include "geom/origami.h"
 #include "geom/origami_layers.h"
@@ -26,6 +27,7 @@
 #include "lang/eval.h"
 #include "lang/parse.h"
 #include "io/image.h"
+#include "io/outfile.h"
 #include "io/tempfile.h"
 #include "render/render.h"
 #include "render/stats.h"
@@ -40,9 +42,9 @@ typedef struct Options {
   const char *input;
   const char **inputs; int ninputs;   /* every file named (sumi assemble takes several) */
   const char *output;
-  int ast, scene, compare, stats, quiet, loop;
+  int ast, scene, compare, stats, quiet, loop, resume;
   int width, height, threads;
-  const char *frames, *aov, *tile;
+  const char *frames, *only, *aov, *tile;
   const char **defines; int ndefines;
   const char **include_dirs; int ninclude_dirs;
   long limits[8];   /* --max-* values, 0 = default (see LIMIT_OPTIONS) */
@@ -83,8 +85,13 @@ static void usage(FILE *out) {
     "  -D name=value        override a top-level let (value is an expression)\n"
     "  -I DIR               add an include folder\n"
     "  --frames A:B         render frames A..B; clock runs 0..1 over them, frame is the\n"
-    "                       number; OUT's #### (or a 4-digit suffix) takes the frame\n"
+    "                       number; OUT's #### (or a 4-digit suffix) takes the frame;\n"
+    "                       A:B:STEP every STEP-th, or a list: 1,5,9:12 (the clock\n"
+    "                       runs from the lowest frame named to the highest)\n"
+    "  --only LIST          with --frames: only these of its frames (e.g. 17, or\n"
+    "                       $SLURM_ARRAY_TASK_ID), the clock still the animation's\n"
     "  --loop               with --frames: a loop, clock in [0, 1) (B is not A again)\n"
+    "  --resume             skip a frame (or tile) whose file is already whole\n"
     "  --tile I/N, --tile I/CxR  render tile I (from 1, row by row) of the frame cut\n"
     "                       into N rows of tiles, or C columns and R rows; writes a\n"
     "                       .png, .tif or .exr that knows its place (sumi assemble)\n"
@@ -141,6 +148,7 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "--stats")) o->stats = 1;
     else if (!strcmp(a, "--quiet")) o->quiet = 1;
     else if (!strcmp(a, "--loop")) o->loop = 1;
+    else if (!strcmp(a, "--resume")) o->resume = 1;
     else if (!strcmp(a, "-o")) { NEED_VALUE(); o->output = v; }
     else if (!strcmp(a, "-W")) { NEED_VALUE(); o->width = parse_int_arg(a, v, 1, RENDER_MAX_SIZE); }
     else if (!strcmp(a, "-H")) { NEED_VALUE(); o->height = parse_int_arg(a, v, 1, RENDER_MAX_SIZE); }
@@ -148,6 +156,7 @@ static void parse_options(int argc, char **argv, Options *o) {
     else if (!strcmp(a, "-D")) { NEED_VALUE(); o->defines = push_str(o->defines, &o->ndefines, v); }
     else if (!strcmp(a, "-I")) { NEED_VALUE(); o->include_dirs = push_str(o->include_dirs, &o->ninclude_dirs, v); }
     else if (!strcmp(a, "--frames")) { NEED_VALUE(); o->frames = v; }
+    else if (!strcmp(a, "--only")) { NEED_VALUE(); o->only = v; }
     else if (!strcmp(a, "--tile")) { NEED_VALUE(); o->tile = v; }
     else if (!strcmp(a, "--aov")) { NEED_VALUE(); o->aov = v; }
     else if (!strcmp(a, "--count")) o->count = 1;
@@ -175,6 +184,7 @@ static void parse_options(int argc, char **argv, Options *o) {
   }
   if (!o->command) { usage(stderr); exit(2); }
   if (o->loop && !o->frames) bad_usage("--loop makes a loop of --frames A:B: give the frames too");
+  if (o->only && !o->frames) bad_usage("--only picks frames of --frames A:B: give the frames too");
   o->diag_format = fmt;
   diag_init(fmt);
 }
@@ -379,33 +389,6 @@ static int cmd_refine(const Options *o) {
   return status;
 }
 
-/* Parse "A:B" (or "A") into a frame range; exits with usage on anything else. */
-static void frame_range(const char *spec, int *first, int *last) {
-  char *end;
-  long a = strtol(spec, &end, 10), b = a;
-  if (*end == ':') b = strtol(end + 1, &end, 10);
-  if (*end || end == spec || a < 0 || b < a || b - a > 1000000)
-    bad_usage("--frames takes A:B with 0 <= A <= B (e.g. 0:119), not `%s`", spec);
-  *first = (int)a;
-  *last = (int)b;
-}
-
-/* The output name of a frame: a run of '#' in the name becomes the frame
-** number padded to its length (as Blender does), else "_NNNN" goes before
-** the extension. */
-static void frame_path(char *buf, size_t n, const char *output, int frame) {
-  const char *hash = strchr(output, '#');
-  if (hash) {
-    size_t run = strspn(hash, "#");
-    snprintf(buf, n, "%.*s%0*d%s", (int)(hash - output), output, (int)run, frame, hash + run);
-    return;
-  }
-  const char *dot = strrchr(output, '.');
-  const char *slash = strrchr(output, '/');
-  if (!dot || (slash && dot < slash)) dot = output + strlen(output);
-  snprintf(buf, n, "%.*s_%04d%s", (int)(dot - output), output, frame, dot);
-}
-
 /* The output file fed by the renderer a band of rows at a time while it
 ** renders (RenderRows), when the frame's format takes its 8-bit codes as
 ** they are; otherwise begun stays 0 and the whole image is written after. */
@@ -511,9 +494,14 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   int status = 1;
   if (render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
     char err[512];
+    /* the passes before the image: a frame whose image is whole has them
+    ** all (--resume judges a frame by its image) */
+    int aovs = !gb || render_write_aovs(gb, path, o->aov, err, sizeof err);
     double t0 = now_seconds();
     ImageWriteOptions wo = {0, 0, 0, os.tile};
-    if (!os.begun) status = image_write_opts(path, img, &wo, err, sizeof err) ? 0 : 1;
+    if (!aovs) {
+      if (os.file) image_stream_discard(os.file);
+    } else if (!os.begun) status = image_write_opts(path, img, &wo, err, sizeof err) ? 0 : 1;
     else if (os.file) status = image_stream_close(os.file, err, sizeof err) ? 0 : 1;
     else snprintf(err, sizeof err, "%s", os.err);
     if (status) fprintf(stderr, "sumi: %s\n", err);
@@ -525,10 +513,6 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
       stats_record_cpu("image library", image_bridge_load_seconds());
     }
     stats_record("write", now_seconds() - t0 - (os.begun ? 0 : waited));
-    if (!status && gb && !render_write_aovs(gb, path, o->aov, err, sizeof err)) {
-      fprintf(stderr, "sumi: %s\n", err);
-      status = 1;
-    }
   } else if (os.file) {
     image_stream_discard(os.file);
   }
@@ -595,7 +579,15 @@ static int render_checks(const Options *o, const char *path) {
   return output_writable(path);
 }
 
-/* sumi render FILE -o OUT [--frames A:B]: one image, or one a frame. */
+/* --resume: is path already whole (io/outfile.h)? Says so unless quiet. */
+static int done_already(const Options *o, const char *path) {
+  if (!o->resume || !outfile_complete(path)) return 0;
+  if (!o->quiet) fprintf(stderr, "sumi: %s is complete: not rendered again (--resume)\n", path);
+  return 1;
+}
+
+/* sumi render FILE -o OUT [--frames SPEC [--only LIST]]: one image, or one
+** a frame (base/frames.h). */
 static int cmd_render(const Options *o) {
   if (o->tile) {   /* the spec now, the frame's size once the scene is in */
     TileSpec t;
@@ -605,22 +597,31 @@ static int cmd_render(const Options *o) {
       bad_usage("--tile writes .png, .tif or .exr files (exact pixels, and their place in the frame), not `%s`",
                 o->output);
   }
-  if (!o->frames && !render_checks(o, o->output)) return 1;
-  prefetch_for_output(o);
-  if (!o->frames) return render_frame_to(o, 0, 0, o->output);
-  if (!strcmp(o->input, "-")) bad_usage("--frames reads the scene once a frame: give a file, not -");
-  int first, last;
-  frame_range(o->frames, &first, &last);
-  for (int fr = first; fr <= last; fr++) {
-    char path[4096];
-    frame_path(path, sizeof path, o->output, fr);
-    if (!render_checks(o, path)) return 1;
-    double clock = scene_frame_clock(first, last, fr, o->loop);
-    if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
-    int status = render_frame_to(o, clock, fr, path);
-    if (status) return status;
+  FrameSet fs;
+  char err[512];
+  if (o->frames && !frames_parse(o->frames, o->only, &fs, err, sizeof err)) bad_usage("%s", err);
+  if (o->frames && !strcmp(o->input, "-")) bad_usage("--frames reads the scene once a frame: give a file, not -");
+  if (!o->frames) {
+    if (!render_checks(o, o->output)) return 1;
+    if (done_already(o, o->output)) return 0;
+    prefetch_for_output(o);
+    return render_frame_to(o, 0, 0, o->output);
   }
-  return 0;
+  prefetch_for_output(o);
+  int status = 0;
+  for (int k = 0; k < fs.count && !status; k++) {
+    int fr = fs.frames[k];
+    char path[4096];
+    frames_path(path, sizeof path, o->output, fr);
+    if (!render_checks(o, path)) status = 1;
+    else if (!done_already(o, path)) {
+      double clock = scene_frame_clock(fs.first, fs.last, fr, o->loop);
+      if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
+      status = render_frame_to(o, clock, fr, path);
+    }
+  }
+  frames_free(&fs);
+  return status;
 }
 
 /* A loaded source as watch saw it: its name, modification time and size. */

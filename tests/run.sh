@@ -11,6 +11,7 @@
 #   docs/*.md ```npr blocks  each renders (small) with status 0 and no output
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #   tests/tiles.sh      every example as tiles, assembled: the whole render's bytes
+#   tests/frames.sh     frame steps, lists, --only and --resume
 #
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
@@ -218,29 +219,31 @@ for t in "$ROOT/$BUILD"/unit/test_*; do
   if [ "$q" != 0 ]; then echo "FAIL unit/$(basename "$t")"; head -20 "$OUT/$(basename "$t").stderr"; fi
 done
 
+# A suite in its own script, ending with its "N passed, N failed[, N
+# skipped]" line: its counts are added, and its failures shown.
+# subsuite NAME CMD...  (the log: $OUT/NAME.log)
+subsuite() {
+  name=$1; shift
+  line=$("$@" 2>&1 | tee "$OUT/$name.log" | tail -1)
+  p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
+  q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
+  s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
+  if [ -z "$p" ]; then fail "$name (printed no count)"; return; fi
+  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
+  [ "$q" = 0 ] || grep -A4 FAIL "$OUT/$name.log" | head -30
+}
+
 # Tiles: every example rendered whole and as tiles in separate processes,
 # stitched by `sumi assemble`, byte for byte the same (tests/tiles.sh).
-line=$(OUT="$OUT/tiles" sh "$ROOT/tests/tiles.sh" "$SUMI" 2>&1 | tee "$OUT/tiles.log" | tail -1)
-p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
-q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
-s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
-if [ -z "$p" ]; then fail "tiles (printed no count)"
-else
-  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
-  [ "$q" = 0 ] || grep -A4 FAIL "$OUT/tiles.log" | head -30
-fi
+subsuite tiles env OUT="$OUT/tiles" sh "$ROOT/tests/tiles.sh" "$SUMI"
+
+# Frames as a scheduler's jobs run them: steps, lists, --only, --resume
+# (tests/frames.sh).
+subsuite frames env OUT="$OUT/frames" sh "$ROOT/tests/frames.sh" "$SUMI"
 
 # Real crease patterns against Flat-Folder's counts (the fast rows; all of
 # them: make check-cp). Skips cleanly without ../shared.
-line=$(sh "$ROOT/tests/cp_check.sh" "$SUMI" 5000 2>&1 | tee "$OUT/cp_check.log" | tail -1)
-p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\1/p')
-q=$(echo "$line" | sed -n 's/^\([0-9]*\) passed, \([0-9]*\) failed.*/\2/p')
-s=$(echo "$line" | sed -n 's/.*, \([0-9]*\) skipped.*/\1/p')
-if [ -z "$p" ]; then fail "cp_check (printed no count)"
-else
-  passed=$((passed + p)); failed=$((failed + q)); skipped=$((skipped + ${s:-0}))
-  [ "$q" = 0 ] || grep FAIL "$OUT/cp_check.log" | head -20
-fi
+subsuite cp_check sh "$ROOT/tests/cp_check.sh" "$SUMI" 5000
 
 if [ "$skipped" -gt 0 ]; then echo "$passed passed, $failed failed, $skipped skipped"
 else echo "$passed passed, $failed failed"; fi

@@ -883,6 +883,12 @@ static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err
   return 0;
 }
 
+int image_file_reads_whole(const char *path) {
+  if (format_of(path) == FMT_PNG) return png_file_complete(path);
+  char why[512];
+  return image_bridge_load(why, sizeof why) && bridge->complete(path, why, sizeof why);
+}
+
 /* Fill img from integer codes: sRGB-decoded colour, linear alpha. */
 static void decode_integer(Image *img, const SumiOiioPixels *px) {
   pthread_once(&srgb_once, srgb_init);

@@ -134,6 +134,12 @@ void image_stream_discard(ImageStream *s);
 ** corrupt. On failure *out is NULL. */
 int image_read(const char *path, Image **out, char *err, size_t errlen);
 
+/* Does every row of the image file at path read, with no complaint from
+** its reader? PNG (by the extension) through libpng to its IEND chunk,
+** other formats through the bridge; a band of rows at a time, so any size
+** costs a band of memory (io/outfile.h checks the rest of a file). */
+int image_file_reads_whole(const char *path);
+
 /* A file's pixels exactly as it stores them, for stitching tiles (io/
 ** assemble.h) without changing a bit: 8- or 16-bit codes, or floats (EXR:
 ** colour stays multiplied by alpha), with the file's tile description. */

@@ -26,6 +26,7 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <vector>
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -279,6 +280,43 @@ static int read_impl(const char *path, int want, long long max_pixels, int max_c
   return SUMI_OIIO_OK;
 }
 
+/* Rows read at a time by complete_impl. */
+#define SUMI_OIIO_CHECK_ROWS 64
+
+static int complete_impl(const char *path, char *err, size_t errlen) {
+  std::unique_ptr<ImageInput> in;
+  {
+    LeakScope scope;
+    in = ImageInput::open(path);
+  }
+  if (!in) {
+    set_err(err, errlen, first_line(OIIO::geterror()));
+    return 0;
+  }
+  const ImageSpec &spec = in->spec();
+  int band = spec.tile_width > 0 ? std::max(spec.tile_height, 1) : SUMI_OIIO_CHECK_ROWS;
+  int zend = spec.z + std::max(spec.depth, 1);
+  std::vector<float> buf((size_t)spec.width * (size_t)band * (size_t)std::max(spec.depth, 1) *
+                         (size_t)spec.nchannels);
+  bool ok = true;
+  for (int y = spec.y; ok && y < spec.y + spec.height; y += band) {
+    int yend = std::min(y + band, spec.y + spec.height);
+    LeakScope scope;
+    ok = spec.tile_width > 0 ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, y, yend, spec.z, zend, 0,
+                                              spec.nchannels, TypeDesc::FLOAT, buf.data())
+                             : in->read_scanlines(0, 0, y, yend, 0, 0, spec.nchannels, TypeDesc::FLOAT,
+                                                  buf.data());
+  }
+  /* a reader that made do (libjpeg grey-fills a file cut short, with a
+  ** warning) leaves a message: that too is no whole file */
+  std::string msg = in->geterror();
+  if (!msg.empty()) ok = false;
+  if (!ok) set_err(err, errlen, msg.empty() ? "a read failed" : first_line(msg));
+  in->close();
+  (void)in->geterror();
+  return ok ? 1 : 0;
+}
+
 /* ---- the C boundary: nothing thrown gets past these ------------------- */
 
 static int bridge_read(const char *path, int want, long long max_pixels, int max_channels,
@@ -328,10 +366,14 @@ static int bridge_stream_close(SumiOiioStream *s, char *err, size_t errlen) {
   return guarded(0, err, errlen, [&] { return close_impl(s, err, errlen); });
 }
 
+static int bridge_complete(const char *path, char *err, size_t errlen) {
+  return guarded(0, err, errlen, [&] { return complete_impl(path, err, errlen); });
+}
+
 extern "C" const SumiOiioApi *sumi_oiio_api(void) {
   static const SumiOiioApi api = {
     SUMI_OIIO_API_VERSION, OIIO_VERSION_STRING, bridge_write, bridge_read,
-    bridge_stream_open, bridge_stream_rows, bridge_stream_close,
+    bridge_stream_open, bridge_stream_rows, bridge_stream_close, bridge_complete,
   };
   return &api;
 }

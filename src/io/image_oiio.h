@@ -24,7 +24,7 @@ extern "C" {
 
 /* Bumped whenever SumiOiioApi or the structs below change shape, so a stale
 ** libsumi_oiio.so from an older build is refused instead of misused. */
-#define SUMI_OIIO_API_VERSION 3
+#define SUMI_OIIO_API_VERSION 4
 
 /* Pixel types crossing the bridge. */
 enum {
@@ -103,6 +103,10 @@ typedef struct SumiOiioApi {
                                  const SumiOiioWrite *w, char *err, size_t errlen);
   int (*stream_rows)(SumiOiioStream *s, int y0, int y1, const void *rows, char *err, size_t errlen);
   int (*stream_close)(SumiOiioStream *s, char *err, size_t errlen);
+  /* Whether path is a whole image: it opens, and every scanline (or
+  ** tile) of its first subimage reads without error, a band at a time,
+  ** so any size costs a band of memory. 1, or 0 with the reason in err. */
+  int (*complete)(const char *path, char *err, size_t errlen);
 } SumiOiioApi;
 
 /* The one exported symbol: the bridge's function table. Never NULL. */

@@ -185,6 +185,32 @@ int png_read_place(const char *path, const char *key, char *out, size_t n, int *
   return found;
 }
 
+int png_file_complete(const char *path) {
+  PngIn r;
+  memset(&r, 0, sizeof r);
+  unsigned char *volatile row = NULL;   /* set between setjmp and a longjmp */
+  if (!png_is_png_file(path) || !(r.f = fopen(path, "rb"))) return 0;
+  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r.msg, on_error, on_warning);
+  r.info = r.png ? png_create_info_struct(r.png) : NULL;
+  if (!r.info || setjmp(png_jmpbuf(r.png))) {
+    free(row);
+    in_free(&r);
+    return 0;
+  }
+  png_init_io(r.png, r.f);
+  png_read_info(r.png, r.info);
+  int passes = png_set_interlace_handling(r.png);
+  png_read_update_info(r.png, r.info);
+  row = xmalloc(png_get_rowbytes(r.png, r.info));
+  int h = (int)png_get_image_height(r.png, r.info);
+  for (int pass = 0; pass < passes; pass++)
+    for (int y = 0; y < h; y++) png_read_row(r.png, row, NULL);
+  png_read_end(r.png, NULL);   /* the chunks after the data, to IEND */
+  free(row);
+  in_free(&r);
+  return 1;
+}
+
 int png_read_file(const char *path, long long max_pixels, int *w, int *h, int *nc, int *bits,
                   void **codes, int *too_large, char *err, size_t errlen) {
   PngIn r;

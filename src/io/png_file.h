@@ -54,6 +54,11 @@ int png_out_close(PngOut *p, char *err, size_t errlen);
 ** one) into *x, *y; 0 when there is no such text or the file is no PNG. */
 int png_read_place(const char *path, const char *key, char *out, size_t n, int *x, int *y);
 
+/* Whether the file at path is a whole PNG: its signature, every row's
+** data (read one row at a time, so any size costs a row of memory) and
+** the chunks after it up to IEND, with their checksums. */
+int png_file_complete(const char *path);
+
 /* Read a PNG: palette images become RGB, transparency chunks alpha, grey
 ** of fewer than 8 bits 8-bit grey; *codes is malloc'ed (free it), *bits
 ** is 8 or 16 (uint16_t codes in host order). A header whose w * h exceeds
