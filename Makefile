@@ -52,7 +52,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    assimp-testmodels python3-skimage libpolyclipping-dev libcgal-dev libgmp-dev libmpfr-dev \
                    libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
 
-.PHONY: all deps test test-unit update-snapshots update-golden fuzz valgrind bench bench-parse \
+.PHONY: all deps test test-unit test-slurm update-snapshots update-golden fuzz valgrind bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
@@ -183,6 +183,13 @@ bench-solve: deps all
 bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
 
+# The Slurm recipe (scripts/slurm/) on a one-node cluster this starts on
+# localhost: a tile array and its assemble job, and a frame array, against
+# single-process renders (tests/slurm.sh; under a minute once installed).
+test-slurm: PEER_PACKAGES := slurm-wlm munge python3
+test-slurm: deps all
+	sh tests/slurm.sh $(BUILD)/sumi
+
 # Every example rendered small under valgrind's memcheck (minutes).
 valgrind: PEER_PACKAGES := valgrind
 valgrind: deps all
@@ -223,6 +230,7 @@ help:
 	@echo "make test       every test suite (SANITIZE=1: under ASan+UBSan)"
 	@echo "make update-snapshots / update-golden   rewrite expectations"
 	@echo "make fuzz FUZZ_SECONDS=N   libFuzzer: parser, evaluator, FOLD, mesh, image (FUZZ_TARGETS=...)"
+	@echo "make test-slurm the Slurm recipe on a one-node cluster started here (installs slurm-wlm, munge)"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
