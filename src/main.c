@@ -28,6 +28,7 @@
 #include "lang/parse.h"
 #include "io/image.h"
 #include "io/outfile.h"
+#include "io/progress.h"
 #include "io/tempfile.h"
 #include "render/render.h"
 #include "render/stats.h"
@@ -101,7 +102,8 @@ static void usage(FILE *out) {
     "  --diagnostics json   diagnostics as JSON lines (default: text)\n"
     "  --max-recursion N, --max-iterations N, --max-list N, --max-memory-mb N\n"
     "                       evaluation limits\n"
-    "  --quiet              no progress output\n"
+    "  --quiet              no progress line (shown on a terminal only) and no\n"
+    "                       frame-by-frame notes\n"
     "  -h, --help           this text\n"
     "  --version            the version\n", out);
 }
@@ -483,6 +485,7 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   heap_for_frame(scene, &ro);
   ro.threads = o->threads;
   ro.stats = o->stats;
+  ro.progress = progress_hook();
   const char *ext = strrchr(path, '.');
   if (ext && !strcmp(ext, ".svg")) return svg_render_scene(scene, &ro, path);   /* line art (render/svg.h) */
   ro.out8 = image_write_is_8bit(path);
@@ -492,7 +495,9 @@ static int render_to(const Options *o, const Scene *scene, const char *path) {
   Image *img = NULL;
   GBuffer *gb = NULL;
   int status = 1;
-  if (render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0) {
+  int rendered = render_scene(scene, &ro, &img, o->aov ? &gb : NULL) == 0;
+  progress_clear();   /* whatever is said next has the terminal to itself */
+  if (rendered) {
     char err[512];
     /* the passes before the image: a frame whose image is whole has them
     ** all (--resume judges a frame by its image) */
@@ -582,6 +587,7 @@ static int render_checks(const Options *o, const char *path) {
 /* --resume: is path already whole (io/outfile.h)? Says so unless quiet. */
 static int done_already(const Options *o, const char *path) {
   if (!o->resume || !outfile_complete(path)) return 0;
+  progress_clear();
   if (!o->quiet) fprintf(stderr, "sumi: %s is complete: not rendered again (--resume)\n", path);
   return 1;
 }
@@ -605,21 +611,28 @@ static int cmd_render(const Options *o) {
     if (!render_checks(o, o->output)) return 1;
     if (done_already(o, o->output)) return 0;
     prefetch_for_output(o);
-    return render_frame_to(o, 0, 0, o->output);
+    progress_begin(1, o->quiet);
+    int status = render_frame_to(o, 0, 0, o->output);
+    progress_end();
+    return status;
   }
   prefetch_for_output(o);
+  progress_begin(fs.count, o->quiet);
   int status = 0;
   for (int k = 0; k < fs.count && !status; k++) {
     int fr = fs.frames[k];
     char path[4096];
     frames_path(path, sizeof path, o->output, fr);
+    progress_frame(k + 1);
     if (!render_checks(o, path)) status = 1;
     else if (!done_already(o, path)) {
       double clock = scene_frame_clock(fs.first, fs.last, fr, o->loop);
+      progress_clear();
       if (!o->quiet) fprintf(stderr, "sumi: frame %d (clock %g) -> %s\n", fr, clock, path);
       status = render_frame_to(o, clock, fr, path);
     }
   }
+  progress_end();
   frames_free(&fs);
   return status;
 }
@@ -645,7 +658,9 @@ static int cmd_watch(const Options *o) {
   if (!render_checks(o, o->output)) return 1;
   prefetch_for_output(o);
   for (;;) {
+    progress_begin(1, o->quiet);
     int status = render_frame_to(o, 0, 0, o->output);
+    progress_end();
     if (!o->quiet)
       fprintf(stderr, status ? "sumi: watch: not written (see above); waiting for a change\n"
                              : "sumi: watch: wrote %s; waiting for a change\n", o->output);
@@ -714,6 +729,7 @@ int main(int argc, char **argv) {
     bad_usage("unexpected argument `%s` (one input file only)", o.inputs[1]);
   if (cmd->needs_output && !o.output) bad_usage("`sumi %s` needs an output file: -o FILE", o.command);
   mem_heap_setup(0);   /* huge pages come later, for a big frame (heap_for_frame) */
+  diag_before_output(progress_clear);   /* a diagnostic takes the progress line off first */
   int status = cmd->run(&o);
   image_bridge_join();
   diag_shutdown();

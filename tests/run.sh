@@ -12,6 +12,7 @@
 #   build/unit/test_*               C unit tests, each printing "N passed, N failed"
 #   tests/tiles.sh      every example as tiles, assembled: the whole render's bytes
 #   tests/frames.sh     frame steps, lists, --only and --resume
+#   tests/progress.sh   the progress line on a terminal, none off one
 #
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
@@ -240,6 +241,10 @@ subsuite tiles env OUT="$OUT/tiles" sh "$ROOT/tests/tiles.sh" "$SUMI"
 # Frames as a scheduler's jobs run them: steps, lists, --only, --resume
 # (tests/frames.sh).
 subsuite frames env OUT="$OUT/frames" sh "$ROOT/tests/frames.sh" "$SUMI"
+
+# The progress line on a (pseudo-)terminal, and nothing of it off one
+# (tests/progress.sh).
+subsuite progress env OUT="$OUT/progress" sh "$ROOT/tests/progress.sh" "$SUMI"
 
 # Real crease patterns against Flat-Folder's counts (the fast rows; all of
 # them: make check-cp). Skips cleanly without ../shared.

@@ -31,6 +31,10 @@ static struct {
   int said_too_many;
 } D;
 
+static void (*before_output)(void);   /* kept across diag_init */
+
+void diag_before_output(void (*fn)(void)) { before_output = fn; }
+
 void diag_init(DiagFormat format) {
   memset(&D, 0, sizeof D);
   D.format = format;
@@ -326,6 +330,7 @@ void diag_report(DiagSeverity sev, SrcRange at, const char *fmt, ...) {
     if (D.suppressed) {
       if (!D.said_too_many) {
         D.said_too_many = 1;
+        if (before_output && D.format == DIAG_TEXT) before_output();
         if (D.format == DIAG_TEXT) fprintf(stderr, "sumi: too many errors (limit is %d), stopping\n", DIAG_MAX_ERRORS);
       }
       return;
@@ -335,6 +340,7 @@ void diag_report(DiagSeverity sev, SrcRange at, const char *fmt, ...) {
     D.suppressed = 0;
   }
   if (D.format == DIAG_SILENT) return;
+  if (before_output) before_output();
   char msg[2048];
   va_list ap;
   va_start(ap, fmt);

@@ -73,6 +73,10 @@ void diag_report(DiagSeverity sev, SrcRange at, const char *fmt, ...)
 #define diag_warning(at, ...) diag_report(DIAG_WARNING, (at), __VA_ARGS__)
 #define diag_note(at, ...) diag_report(DIAG_NOTE, (at), __VA_ARGS__)
 
+/* fn (NULL: none) runs before a diagnostic is printed, so a progress line
+** on the terminal (io/progress.h) can take itself off first. */
+void diag_before_output(void (*fn)(void));
+
 int diag_error_count(void);
 int diag_warning_count(void);
 int diag_too_many(void);      /* the cap was reached: callers may stop early */
