@@ -52,7 +52,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    assimp-testmodels python3-skimage libpolyclipping-dev libcgal-dev libgmp-dev libmpfr-dev \
                    libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
 
-.PHONY: all deps test test-unit test-slurm update-snapshots update-golden fuzz valgrind bench bench-parse \
+.PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
         bench-eval bench-solve gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
@@ -200,18 +200,19 @@ valgrind: deps all
 check-cp: all
 	sh tests/cp_check.sh $(BUILD)/sumi
 
-# An example's first lines may say `// needs: FILE` (skipped when FILE is
-# absent, e.g. a Debian package's model) or `// frames: A:B` (an animation:
-# one image a frame, NAME_####.png).
-gallery: all
-	@mkdir -p docs/gallery
-	@for f in examples/*.npr; do \
-	  need=$$(head -3 $$f | sed -n 's|^// needs: *||p'); frames=$$(head -3 $$f | sed -n 's|^// frames: *||p'); \
-	  if [ -n "$$need" ] && [ ! -e "$$need" ]; then echo "skip $$f (no $$need)"; continue; fi; \
-	  echo "render $$f"; \
-	  if [ -n "$$frames" ]; then $(BUILD)/sumi render $$f --frames $$frames -o docs/gallery/$$(basename $$f .npr)_####.png --quiet || exit 1; \
-	  else $(BUILD)/sumi render $$f -o docs/gallery/$$(basename $$f .npr).png || exit 1; fi; \
-	done
+# Every example rendered into docs/gallery/, and docs/gallery/index.html:
+# each image, its scene, styles, papers and render time (scripts/gallery.py;
+# an example's `// needs: FILE` skips it when FILE is absent, `// frames:
+# A:B` makes it an animation, NAME_####.png).
+gallery: PEER_PACKAGES := python3
+gallery: deps all
+	python3 scripts/gallery.py $(BUILD)/sumi examples docs/gallery
+
+# The gallery page in headless Chromium: every image loaded at its size,
+# and a screenshot (tests/gallery.sh; build/test-out/gallery/).
+test-gallery: PEER_PACKAGES := chromium python3
+test-gallery: deps all
+	sh tests/gallery.sh $(BUILD)/sumi
 
 PREFIX ?= /usr/local
 install: all
@@ -235,6 +236,7 @@ help:
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
-	@echo "make gallery    render every example into docs/gallery/"
+	@echo "make gallery    render every example into docs/gallery/ and write its index.html"
+	@echo "make test-gallery  the gallery page in headless Chromium (installs chromium)"
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
