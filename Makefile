@@ -53,7 +53,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
 
 .PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
-        bench-eval bench-solve gallery clean help example install check-cp
+        bench-eval bench-solve bench-tiles gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -183,6 +183,12 @@ bench-solve: deps all
 bench: deps all bench-parse bench-eval
 	sh bench/run.sh $(BUILD)/sumi
 
+# A 7680x4320 frame of the lines scene whole and as 8 tile jobs run 2 at a
+# time, plus assemble: CPU time and peak memory (make bench runs it too).
+bench-tiles: PEER_PACKAGES := time python3
+bench-tiles: deps all
+	sh bench/tiles.sh $(BUILD)/sumi
+
 # The Slurm recipe (scripts/slurm/) on a one-node cluster this starts on
 # localhost: a tile array and its assemble job, and a frame array, against
 # single-process renders (tests/slurm.sh; under a minute once installed).
@@ -234,6 +240,7 @@ help:
 	@echo "make test-slurm the Slurm recipe on a one-node cluster started here (installs slurm-wlm, munge)"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
+	@echo "make bench-tiles a 7680x4320 frame whole and as 8 tile jobs (CPU, memory)"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/ and write its index.html"

@@ -175,4 +175,7 @@ echo
 sh bench/brush.sh "$SUMI"
 echo
 sh bench/ink.sh "$SUMI"
+# A 7680x4320 frame whole and as 8 tile jobs (issue 22).
+echo
+sh bench/tiles.sh "$SUMI" || echo "bench tiles: the stitched frame is not the whole render's"
 exit 0
