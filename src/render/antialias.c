@@ -365,7 +365,9 @@ int aa_tile(const AaFrame *af, const RastTarget *rt, const AaSteps *st, int x0, 
       uint32_t diff[AA_ROW], any = 0;
       const uint32_t *k0 = st->key + i0, *k1 = k0 + step;
       for (int k = 0; k < m; k++) {
-        uint32_t drawn = ~(uint32_t)(o0[k] >> 31);   /* all ones where P shows an object */
+        /* all ones where P and Q both show an object: a background sample's face
+        ** is never written, and (o0 ^ o1) already tells it from an object's */
+        uint32_t drawn = ~(uint32_t)((o0[k] | o1[k]) >> 31);
         uint32_t d = (uint32_t)(o0[k] ^ o1[k]) | (((uint32_t)(f0[k] ^ f1[k]) | (k0[k] ^ k1[k])) & drawn);
         diff[k] = d;
         any |= d;
