@@ -89,6 +89,20 @@ SceneGeometry *shape_cube(Arena *a, Vec3 s, int center) {
     memcpy(&g->face_index[4 * f], quads[f], sizeof quads[f]);
   }
   g->face_start[6] = 24;
+  /* each face carries the whole unit square as its (u, v), upright seen
+  ** from outside (v up the sides; the top with x right and y up, the
+  ** bottom with x right and y down) */
+  static const double uv[6][4][2] = {
+    {{0, 1}, {0, 0}, {1, 0}, {1, 1}},   /* bottom, z = 0 */
+    {{0, 0}, {1, 0}, {1, 1}, {0, 1}},   /* top */
+    {{0, 0}, {1, 0}, {1, 1}, {0, 1}},   /* y = 0 */
+    {{1, 0}, {1, 1}, {0, 1}, {0, 0}},   /* y = size */
+    {{1, 0}, {1, 1}, {0, 1}, {0, 0}},   /* x = 0 */
+    {{0, 0}, {1, 0}, {1, 1}, {0, 1}},   /* x = size */
+  };
+  g->face_uv = arena_alloc(a, 24 * sizeof *g->face_uv);
+  for (int f = 0; f < 6; f++)
+    for (int k = 0; k < 4; k++) g->face_uv[4 * f + k] = (Vec2){uv[f][k][0], uv[f][k][1]};
   return g;
 }
 

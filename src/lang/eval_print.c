@@ -56,6 +56,12 @@ static void print_output(const SceneOutput *o, FILE *out) {
   fprintf(out, "output.samples %d\n", o->samples);
   fprintf(out, "output.antialias %s\n", o->antialias ? "true" : "false");
   line_color(out, "output.", "background", o->background);
+  for (int i = 0; i < o->nstops; i++) {
+    char key[32];
+    snprintf(key, sizeof key, "background_stop[%d]", i);
+    line_color(out, "output.", key, o->stops[i]);
+  }
+  if (o->backdrop) fprintf(out, "output.background_image \"%s\"\n", o->backdrop_name);
   const SceneSheet *sh = &o->sheet;
   if (!sh->texture) return;
   fprintf(out, "output.sheet \"%s\"\n", sh->texture);
@@ -276,6 +282,10 @@ static void print_style(int i, const SceneStyle *s, FILE *out) {
   snprintf(pre, sizeof pre, "style[%d].", i);
   fprintf(out, "%sname %s\n", pre, s->name ? s->name : "(anonymous)");
   line_color(out, pre, "base", s->base);
+  if (s->texture) {
+    fprintf(out, "%stexture \"%s\"\n", pre, s->texture_name);
+    line_num(out, pre, "texture_repeat", s->texture_repeat);
+  }
   snprintf(pre, sizeof pre, "style[%d].shade.", i);
   print_shade(pre, &s->shade, out);
   snprintf(pre, sizeof pre, "style[%d].lines.", i);

@@ -506,6 +506,48 @@ static int cv_box_filter(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* background #c; background #top, ..., #bottom; background "sky.png";
+** in output: a colour, a vertical gradient through the colours (evenly
+** spaced, top to bottom), or an image file scaled to the frame (resolved
+** against the folder of the file that wrote it; R_FILE has checked it can
+** be read). A gradient or an image is opaque. */
+static int cv_background(Ctx *c, const Prop *p, const Row *r, void *t) {
+  SceneOutput *o = t;
+  o->background_loc = p->vloc[0];
+  const Value *v = &p->v[0];
+  if (p->n == 1 && v->kind == V_STR) {
+    if (!strpbrk(v->u.s->s, "./")) {
+      ev_error(c->ev, p->vloc[0], "`background` in `output` is a colour, colours or an image file (a path "
+               "with a `.` or a `/`); `%s` is none of them", v->u.s->s);
+      return -1;
+    }
+    const SrcFile *f = p->loc.file >= 0 ? diag_file(p->loc.file) : NULL;
+    const char *slash = f ? strrchr(f->name, '/') : NULL;
+    char full[4096];
+    if (v->u.s->s[0] == '/' || !slash) snprintf(full, sizeof full, "%s", v->u.s->s);
+    else snprintf(full, sizeof full, "%.*s/%s", (int)(slash - f->name), f->name, v->u.s->s);
+    o->backdrop = scene_str(c, full);
+    o->backdrop_name = scene_str(c, v->u.s->s);
+    o->background = (Color){0, 0, 0, 1};
+    return 0;
+  }
+  if (p->n > SCENE_MAX_BACKGROUND_STOPS) {
+    ev_error(c->ev, p->vloc[SCENE_MAX_BACKGROUND_STOPS], "`background` in `output` takes at most %d colours "
+             "(SCENE_MAX_BACKGROUND_STOPS)", SCENE_MAX_BACKGROUND_STOPS);
+    return -1;
+  }
+  Color stops[SCENE_MAX_BACKGROUND_STOPS] = {{0, 0, 0, 1}};
+  for (int i = 0; i < p->n; i++)
+    if (to_color(c, p, i, &stops[i])) return -1;
+  o->background = stops[0];
+  if (p->n == 1) return 0;
+  o->nstops = p->n;
+  o->stops = arena_alloc(&c->ev->scene->arena, (size_t)p->n * sizeof *o->stops);
+  for (int i = 0; i < p->n; i++) { o->stops[i] = stops[i]; o->stops[i].a = 1; }
+  o->background.a = 1;
+  return 0;
+}
+
 /* sheet "xuan"; or sheet "paper.png"; in output: the paper, with the
 ** defaults of a `sheet { }` block. */
 static int cv_sheet(Ctx *c, const Prop *p, const Row *r, void *t) {
@@ -748,6 +790,30 @@ static int cv_image(Ctx *c, const Prop *p, const Row *r, void *t) {
   return 0;
 }
 
+/* texture "wood.png"; in a style: an image file on the object's (u, v),
+** resolved against the folder of the file that wrote it (R_FILE has
+** checked it can be read); whether it decodes is found when the frame is
+** prepared. */
+static int cv_style_texture(Ctx *c, const Prop *p, const Row *r, void *t) {
+  const Value *v = &p->v[0];
+  if (v->kind != V_STR || v->u.s->len == 0) return expect(c, p, 0, "an image file name (a string)");
+  if (!strpbrk(v->u.s->s, "./")) {
+    ev_error(c->ev, p->vloc[0], "`texture` in `style` names an image file (a path with a `.` or a `/`); "
+             "`%s` is not one", v->u.s->s);
+    return -1;
+  }
+  const SrcFile *f = p->loc.file >= 0 ? diag_file(p->loc.file) : NULL;
+  const char *slash = f ? strrchr(f->name, '/') : NULL;
+  char full[4096];
+  if (v->u.s->s[0] == '/' || !slash) snprintf(full, sizeof full, "%s", v->u.s->s);
+  else snprintf(full, sizeof full, "%.*s/%s", (int)(slash - f->name), f->name, v->u.s->s);
+  SceneStyle *st = t;
+  st->texture = scene_str(c, full);
+  st->texture_name = scene_str(c, v->u.s->s);
+  st->texture_loc = p->vloc[0];
+  return 0;
+}
+
 /* range [lo, hi]; — a layer's tone range, 0 <= lo < hi <= 1. */
 static int cv_range(Ctx *c, const Prop *p, const Row *r, void *t) {
   ThresholdLayer *l = t;
@@ -808,7 +874,7 @@ static int cv_image_file(Ctx *c, const Prop *p, const Row *r, void *t) {
 
 static const Row output_rows[] = {
   CUSTOM("size", cv_size, 0),
-  TYPED("background", T_COLOR, SceneOutput, background),
+  CUSTOM("background", cv_background, R_MANY | R_FILE),
   INT("samples", SceneOutput, samples, 1, SCHEMA_MAX_SAMPLES, 1),
   {"antialias", T_BOOL, 0, 0, 1, offsetof(SceneOutput, antialias), 0, NULL, NULL},
   CUSTOM("sheet", cv_sheet, R_FILE),
@@ -848,6 +914,8 @@ static const Row light_rows[] = {
 
 static const Row style_rows[] = {
   TYPED("base", T_COLOR, SceneStyle, base),
+  CUSTOM("texture", cv_style_texture, R_FILE),
+  NUM("texture_repeat", SceneStyle, texture_repeat, 1e-3, 1e4, 1),
 };
 
 /* Shared by every shading model: the lighting terms. */
@@ -1082,7 +1150,6 @@ static const struct { const char *kind, *word, *instead; } placeholders[] = {
   /* not missing, but with nothing left to do (docs/styles.md, lines) */
   {"lines", "search_width", "`search_width` has no effect: each edge is tested on its own line, so "
                             "tracing has nothing beside it to search"},
-  {"light", "shadow", "shadows are not drawn yet: the light reaches every surface"},
 };
 
 /* Warn at `at` when kind (with word, or NULL) is a placeholder. */

@@ -258,7 +258,7 @@ static float step_value(const AaFrame *af, const RastTarget *rt, const AaSteps *
   float p[3], n[3], v[3];
   shade_surface_at(st->view, o, rt->face[i], rt->bary[i][0], rt->bary[i][1], p, n, v);
   st->seen[m] = st->stamp;
-  return st->memo[m] = shade_step_value(af->f, o->style, t, p, n, v);
+  return st->memo[m] = shade_step_value(af->f, o, rt->face[i], t, p, n, v);
 }
 
 /* How term t's smooth value changes one step across the axis at sample

@@ -73,24 +73,13 @@ int canvas_margin(const RenderFrame *f) {
 }
 
 int canvas_wanted(const Scene *s, const RenderFrame *f) {
-  if (s->output.sheet.texture) return 1;
+  if (s->output.sheet.texture || s->output.nstops >= 2 || s->output.backdrop) return 1;
   for (int i = 0; i < f->nobjects; i++)
     if (f->objects[i].style->ink) return 1;
   return 0;
 }
 
 /* ---- the ink of each pixel -------------------------------------------------------- */
-
-/* The Gouraud grey of object o at a sample of triangle face, barycentrics b. */
-static float sample_grey(const RenderObject *o, int face, const float b[2]) {
-  float b1 = b[0], b2 = b[1], b0 = 1 - b1 - b2;
-  if (o->wcnrm) {   /* a grey per corner */
-    const float *v = o->vink + 3 * (size_t)face;
-    return b0 * v[0] + b1 * v[1] + b2 * v[2];
-  }
-  const int *t = o->mesh->tri[face];
-  return b0 * o->vink[t[0]] + b1 * o->vink[t[1]] + b2 * o->vink[t[2]];
-}
 
 /* Where the canvas holds ink, and whether other objects cover some of it. */
 typedef struct InkArea {
@@ -151,7 +140,7 @@ static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, 
       int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
       if (si < 0) { put_off(c, p, a); continue; }
       const InkStyle *k = &set->styles[si];
-      float grey = sample_grey(&f->objects[obj[x]], g->face[p], g->bary[p]);
+      float grey = shade_ink_grey(f, &f->objects[obj[x]], g->face[p], g->bary[p]);
       int label = ink_label(k, grey);
       c->level[p] = (uint8_t)label;
       c->style[p] = (uint16_t)si;
@@ -184,7 +173,7 @@ static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, c
       int s = obj < f->nobjects ? set->of_object[obj] : -1;
       if (s < 0) { n_other++; continue; }
       n_ink++;
-      grey += sample_grey(&f->objects[obj], g->face[i], g->bary[i]);
+      grey += shade_ink_grey(f, &f->objects[obj], g->face[i], g->bary[i]);
       if (si < 0) si = s;
     }
   size_t p = (size_t)y * c->width + x;
@@ -455,8 +444,10 @@ int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image *
   Paper pp;
   char err[1400];
   const SceneSheet *sh = &s->output.sheet;
-  if (!paper_create(sh, s->output.background, &pp, err, sizeof err)) {
-    diag_error(sh->loc, "%s", err);
+  int backdrop = !sh->texture && (s->output.nstops >= 2 || s->output.backdrop);   /* a sheet wins */
+  if (backdrop ? !paper_backdrop(&s->output, f->width, f->height, &pp, err, sizeof err)
+               : !paper_create(sh, s->output.background, &pp, err, sizeof err)) {
+    diag_error(backdrop ? s->output.background_loc : sh->loc, "%s", err);
     return 0;
   }
   stats_record("paper", stats_now() - t0);

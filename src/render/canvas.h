@@ -25,7 +25,8 @@
 ** the box filter reach. */
 int canvas_margin(const RenderFrame *f);
 
-/* Does the frame need the canvas: a sheet, or an object in shade ink? */
+/* Does the frame need the canvas: a sheet, a gradient or image
+** background, or an object in shade ink? */
 int canvas_wanted(const Scene *s, const RenderFrame *f);
 
 /* Paint the frame: *img is the tile pass's image (RGBA, background

@@ -70,6 +70,12 @@ void ink_style_init(InkStyle *k, const SceneShade *sh);
 ** viewer; read as a display grey, as the thesis's frame buffer was. */
 void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o);
 
+/* The Gouraud grey of ink object o at a sample of triangle face,
+** barycentrics b: its vertex greys interpolated; with shadows, each
+** light's part times the share of it reaching the sample's point, and
+** the sum clamped to [0, 1]. */
+float shade_ink_grey(const RenderFrame *f, const RenderObject *o, int face, const float b[2]);
+
 /* The range (0 darkest .. ntones - 1) grey value v falls in: how many
 ** thresholds it reaches (a NaN reaches all: the lightest, no ink). */
 static inline int ink_range(const InkStyle *k, float v) {

@@ -23,6 +23,7 @@
 #include "../io/image.h"
 #include "../lang/diag.h"
 #include "display.h"
+#include "imagemap.h"
 #include "noise.h"
 
 /* ---- fibres ---------------------------------------------------------------------- */
@@ -245,6 +246,79 @@ int paper_create(const SceneSheet *sh, Color background, Paper *p, char *err, si
     p->linear[3 * i] = background.r; p->linear[3 * i + 1] = background.g; p->linear[3 * i + 2] = background.b;
   }
   p->alpha = background.a;
+  return 1;
+}
+
+/* A vertical gradient through o's stops, evenly spaced from the top row
+** to the bottom row, in linear light: each row one colour. */
+static void gradient(const SceneOutput *o, int height, Paper *p) {
+  p->width = PAPER_FLAT_RUN;   /* a row of one colour: long runs, as the flat background */
+  p->height = height;
+  size_t n = (size_t)p->width * height * 3;
+  p->display = xmalloc(n * sizeof *p->display);
+  p->linear = xmalloc(n * sizeof *p->linear);
+  float *row = xmalloc(3 * (size_t)height * sizeof *row);
+  for (int y = 0; y < height; y++) {
+    double t = height > 1 ? (double)y / (height - 1) * (o->nstops - 1) : 0;   /* the stops' scale */
+    int i = (int)t < o->nstops - 1 ? (int)t : o->nstops - 2;
+    float f = (float)(t - i);
+    const Color *a = &o->stops[i], *b = &o->stops[i + 1];
+    row[3 * y] = a->r + f * (b->r - a->r);
+    row[3 * y + 1] = a->g + f * (b->g - a->g);
+    row[3 * y + 2] = a->b + f * (b->b - a->b);
+  }
+  for (int y = 0; y < height; y++)
+    for (int x = 0; x < p->width; x++)
+      for (int c = 0; c < 3; c++) p->display[((size_t)y * p->width + x) * 3 + c] = display_from_linear(row[3 * y + c]);
+  fill_linear(p);
+  for (int y = 0; y < height; y++)   /* the gradient's own linear values, not their round trip */
+    for (int x = 0; x < p->width; x++) memcpy(&p->linear[((size_t)y * p->width + x) * 3], &row[3 * y], 3 * sizeof *row);
+  free(row);
+}
+
+/* o's image scaled to width x height pixels: each pixel the image's
+** filtered colour over its footprint (imagemap.h), over black. */
+static int backdrop_image(const SceneOutput *o, int width, int height, Paper *p, char *err, size_t errlen) {
+  if ((long long)width * height > PAPER_MAX_TEXELS) {
+    snprintf(err, errlen, "a background image is scaled to the frame, and %d x %d pixels is more than %lld "
+             "(PAPER_MAX_TEXELS); render it in tiles of a smaller frame, or use a colour", width, height,
+             PAPER_MAX_TEXELS);
+    return 0;
+  }
+  char why[1024];
+  ImageMap *m = imagemap_load(o->backdrop, why, sizeof why);
+  if (!m) {
+    snprintf(err, errlen, "`background` in `output`: %s", why);
+    return 0;
+  }
+  p->width = width;
+  p->height = height;
+  size_t n = (size_t)width * height * 3;
+  p->display = xmalloc(n * sizeof *p->display);
+  p->linear = xmalloc(n * sizeof *p->linear);
+  float du = 1.0f / (float)width, dv = 1.0f / (float)height;
+  for (int y = 0; y < height; y++)
+    for (int x = 0; x < width; x++) {
+      float t[4];   /* colour times alpha: over black */
+      imagemap_sample(m, ((float)x + 0.5f) * du, 1 - ((float)y + 0.5f) * dv, du, 0, 0, dv, t);
+      float *d = &p->linear[((size_t)y * width + x) * 3];
+      for (int c = 0; c < 3; c++) d[c] = t[c];
+    }
+  imagemap_free(m);
+  for (size_t i = 0; i < n; i++) p->display[i] = display_from_linear(p->linear[i]);
+  float *lin = p->linear;   /* fill_linear makes the codes; the linear values stay exact */
+  p->linear = xmalloc(n * sizeof *p->linear);
+  fill_linear(p);
+  free(p->linear);
+  p->linear = lin;
+  return 1;
+}
+
+int paper_backdrop(const SceneOutput *o, int width, int height, Paper *p, char *err, size_t errlen) {
+  memset(p, 0, sizeof *p);
+  p->alpha = 1;
+  if (o->backdrop) return backdrop_image(o, width, height, p, err, errlen);
+  gradient(o, height, p);
   return 1;
 }
 

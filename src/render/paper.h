@@ -2,8 +2,8 @@
 ** The sheet under the whole image (Yeh ch. 6: "a Xuan paper image ... is
 ** put on the bottom layer"; `output { sheet ...; }`): procedural xuan paper
 ** by default, tileable and seeded (pulp mottling, a fine tooth, and
-** fibres), or an image that repeats; with no sheet, the flat background
-** colour. Every texel of the tile that repeats over the image has a colour
+** fibres), or an image that repeats; with no sheet, the background: a
+** flat colour, a vertical gradient or an image scaled to the frame. Every texel of the tile that repeats over the image has a colour
 ** and an absorbency (about 1 on average: where it is higher, ink lands
 ** darker, so washes show the grain; the diffusion runs further there).
 */
@@ -36,6 +36,14 @@ typedef struct Paper {
 ** it. Returns 1, or 0 with the reason in err (an image that cannot be read,
 ** a tile over PAPER_MAX_TEXELS). */
 int paper_create(const SceneSheet *sh, Color background, Paper *p, char *err, size_t errlen);
+/* The paper of output o's gradient or image background (o->nstops >= 2 or
+** o->backdrop) for a frame of width x height pixels: a gradient is a
+** column of rows from the first stop at the top row to the last at the
+** bottom row, interpolated in linear light; an image is scaled to the
+** frame, filtered over each pixel's footprint (trilinear, imagemap.h),
+** over black. Both are opaque. Returns 1, or 0 with the reason in err (an
+** image that cannot be read, a frame over PAPER_MAX_TEXELS for an image). */
+int paper_backdrop(const SceneOutput *o, int width, int height, Paper *p, char *err, size_t errlen);
 void paper_free(Paper *p);
 
 /* The texel index of pixel (x, y) (x, y >= 0). */

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "../base/mem.h"
+#include "../base/tasks.h"
 #include "../geom/origami.h"
 #include "../geom/subdiv.h"
 #include "../geom/tessellate.h"
@@ -29,6 +30,7 @@
 #include "raster.h"
 #include "screentex.h"
 #include "shade.h"
+#include "shadow.h"
 #include "stats.h"
 #include "tile.h"
 
@@ -74,36 +76,6 @@ int render_thread_count(const RenderOptions *o) {
   if (o->threads > 0) return o->threads;
   long n = sysconf(_SC_NPROCESSORS_ONLN);
   return n > 0 ? (int)n : 1;
-}
-
-/* ---- parallel tasks -------------------------------------------------------- */
-
-typedef struct TaskPool {
-  void (*fn)(void *ctx, int task);
-  void *ctx;
-  int ntasks;
-  atomic_int next;
-} TaskPool;
-
-static void *task_worker(void *arg) {
-  TaskPool *pool = arg;
-  for (int k; (k = atomic_fetch_add(&pool->next, 1)) < pool->ntasks;) pool->fn(pool->ctx, k);
-  return NULL;
-}
-
-/* Run fn(ctx, task) for every task 0..ntasks-1 on up to nthreads threads
-** (the caller is one of them). Tasks must write only their own results. */
-static void parallel_tasks(int ntasks, int nthreads, void (*fn)(void *ctx, int task), void *ctx) {
-  TaskPool pool = {fn, ctx, ntasks, 0};
-  atomic_init(&pool.next, 0);
-  if (nthreads > ntasks) nthreads = ntasks;
-  pthread_t tid[64];
-  if (nthreads > 64) nthreads = 64;
-  int started = 0;
-  for (; started < nthreads - 1; started++)
-    if (pthread_create(&tid[started], NULL, task_worker, &pool) != 0) break;   /* fewer is fine */
-  task_worker(&pool);
-  for (int i = 0; i < started; i++) pthread_join(tid[i], NULL);
 }
 
 /* ---- prepare: bounding box and camera -------------------------------------- */
@@ -391,7 +363,7 @@ static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads, int fit
     else todo[ntodo++] = i;
   }
   TessJob job = {f, todo, fit};
-  parallel_tasks(ntodo, nthreads, tess_task, &job);
+  tasks_run(ntodo, nthreads, tess_task, &job);
   free(todo);
   for (int i = 0; i < f->nobjects; i++) f->ntriangles += f->objects[i].mesh->ntris;
   return ok;
@@ -484,6 +456,7 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
     retess = stats_now() - t3;
   }
   prepare_lights(s, f);
+  ok = ok && shadow_prepare(s, f, render_thread_count(o));
   ok &= shade_ink_prepare(f);
   ok &= prepare_view(f);
   ok = ok && screentex_prepare(f);
@@ -505,7 +478,10 @@ void render_frame_free(RenderFrame *f) {
     shade_bokashi_free(o);
     free(o->vink);
     free(o->texcoords);
+    free(o->wfnrm);
+    free(o->imgcoords);
   }
+  shadow_free_all(f);
   screentex_free(f);
   shade_ink_free(f);
   free(f->objects);
@@ -667,12 +643,12 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
   for (int i = 0; i < f->nobjects; i++)
     job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
   int n = make_chunks(f, 0, &job.chunks);
-  parallel_tasks(n, nthreads, project_chunk, &job);
+  tasks_run(n, nthreads, project_chunk, &job);
   free(job.chunks);
   n = make_chunks(f, 1, &job.chunks);
   job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
   job.boxes = xcalloc((size_t)n + 1, sizeof *job.boxes);
-  parallel_tasks(n, nthreads, emit_chunk, &job);
+  tasks_run(n, nthreads, emit_chunk, &job);
   if (b->apron) {
     b->verts = job.verts;   /* the edge walks read them */
   } else {
@@ -853,8 +829,10 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, i
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface, left to right */
     if (obj[k] < 0) { e = k + 1; continue; }            /* background: its lanes go unused */
     for (e = k + 1; e < n && obj[e] == obj[k] && face[e] == face[k]; e++) {}
-    if (objects[obj[k]].style->alpha > 0)               /* ink reads no surface: the canvas paints it */
+    if (objects[obj[k]].style->alpha > 0) {             /* ink reads no surface: the canvas paints it */
       shade_row_rebuild(row, &job->view, &objects[obj[k]], face[k], k, e);
+      if (objects[obj[k]].style->image) shade_image_run(row, &objects[obj[k]], face[k], k, e);
+    }
   }
   for (int k = 0, e; k < n; k = e) {                    /* pass 2: the colours */
     if (obj[k] < 0) {                                    /* a run of background */

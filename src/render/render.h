@@ -112,7 +112,7 @@ typedef struct RenderLight {
   float axis[3];       /* spot: unit vector along its axis, away from the light */
   float cos_edge;      /* spot: cosine of the angle from the axis to the cone's edge */
   float inv_fade;      /* spot: 1 / (cos of where the fade ends - cos_edge) */
-  const struct ShadowMap *shadow;   /* its shadow maps (shadow.h), or NULL: it casts none */
+  struct ShadowMap *shadow;   /* its shadow maps (shadow.h), or NULL: it casts none */
 } RenderLight;
 
 /* shade threshold's layers, resolved once a frame (shade_threshold.c), and
@@ -144,6 +144,7 @@ typedef struct RenderStyle {
                                   shade ink, which the canvas paints afterwards */
   struct InkStyle *ink;        /* shade ink: its parameters (ink.h), else NULL */
   ThresholdStyle *layers;      /* shade threshold: its layers, else NULL */
+  struct ImageStyle *image;    /* `texture "file"`: its map and the frame's view (shade.c), else NULL */
 } RenderStyle;
 
 /* Where an object's centre (SceneObject.centre) lands: the noise, the
@@ -177,6 +178,9 @@ typedef struct RenderObject {
   struct BokashiObject *bokashi;       /* its bokashi constants (shade_bokashi.c), or NULL */
   float *vink;                 /* shade ink: per-vertex Gouraud grey (ink.h), else NULL */
   TexTriangle *texcoords;      /* threshold: per triangle, its texture coordinates, else NULL */
+  TexTriangle *imgcoords;      /* a style's image map: per triangle, its (u, v) (texcoord.h) */
+  float (*wfnrm)[3];           /* per triangle, its unit world normal, when some light casts
+                                  shadows (shadow.h: the receivers' planes), else NULL */
 } RenderObject;
 
 typedef struct RenderFrame {

@@ -6,8 +6,13 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../base/mem.h"
+#include "../lang/diag.h"
+#include "imagemap.h"
+#include "shadow.h"
+#include "texcoord.h"
 
 /* ---- small float vector helpers ------------------------------------------ */
 
@@ -52,10 +57,11 @@ ShadeSpanFn shade_span_model(ShadeKind kind) {
 void shade_span_one(const ShadeSample *s, ShadeSpanFn span, float rgb[3]) {
   float p[3] = {s->p[0], s->p[1], s->p[2]}, n[3] = {s->n[0], s->n[1], s->n[2]};
   float v[3] = {s->v[0], s->v[1], s->v[2]}, uv[2] = {s->uv[0], s->uv[1]};
-  float bary[1][2] = {{s->b1, s->b2}};
+  float bary[1][2] = {{s->b1, s->b2}}, b[3] = {s->base[0], s->base[1], s->base[2]};
   int32_t face = s->face;
   ShadeRow r = {s->frame, &face, (const float(*)[2])bary, &p[0], &p[1], &p[2],
-                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], s->sx, s->sy, .step_key = NULL};
+                &n[0], &n[1], &n[2], &v[0], &v[1], &v[2], &uv[0], &uv[1], &b[0], &b[1], &b[2],
+                s->sx, s->sy, .step_key = NULL};
   span(&r, s->obj, 0, 1, rgb, 3);
 }
 
@@ -73,6 +79,75 @@ int shade_reads_uv(ShadeKind kind) {
   /* the models in this file, shade_toon.c and shade_threshold.c (which
   ** makes its own coordinates) do not; textured ones will */
   return kind == SHADE_ORIGAMI;
+}
+
+/* ---- image maps ------------------------------------------------------------ */
+
+/* A style's image map and the camera its coordinates' steps are taken for. */
+typedef struct ImageStyle {
+  ImageMap *map;
+  TexView view;                /* the frame's, set when its objects are prepared */
+} ImageStyle;
+
+/* Read st's texture into rs->image; 0 after a diagnostic. */
+static int image_style_init(RenderStyle *rs, const SceneStyle *st) {
+  rs->image = NULL;
+  if (!st->texture) return 1;
+  char err[600];
+  ImageMap *m = imagemap_load(st->texture, err, sizeof err);
+  if (!m) {
+    diag_error(st->texture_loc, "`texture` in `style`: %s", err);   /* err names the file and the reason */
+    return 0;
+  }
+  rs->image = xcalloc(1, sizeof *rs->image);
+  rs->image->map = m;
+  return 1;
+}
+
+/* An image-mapped object's triangles' coordinates for f's camera: its
+** own (u, v) where its geometry has them, else a box projection of
+** object space, one unit a copy of the image; times texture_repeat. */
+static void image_prepare(const RenderFrame *f, RenderObject *o) {
+  ImageStyle *is = o->style->image;
+  texcoord_view(&is->view, &f->camera);   /* the same for every object of the frame */
+  int projection = texcoord_resolve(o, PROJ_AUTO), n = o->mesh->ntris;
+  o->imgcoords = xmalloc(((size_t)n + 1) * sizeof *o->imgcoords);
+  for (int t = 0; t < n; t++)   /* a back face the rasterizer skips is never shaded */
+    if (!(o->cull_back && o->backfacing[t]))
+      texcoord_triangle(&o->imgcoords[t], o, t, projection, (float)o->style->src->texture_repeat, &is->view);
+}
+
+/* Samples the image run works on at once (its coordinates on the stack). */
+#define IMAGE_BLOCK 64
+
+void shade_image_run(ShadeRow *r, const RenderObject *o, int face, int k0, int k1) {
+  const ImageStyle *is = o->style->image;
+  const float *base = o->style->base;
+  float u[IMAGE_BLOCK], v[IMAGE_BLOCK], ux[IMAGE_BLOCK], uy[IMAGE_BLOCK], vx[IMAGE_BLOCK], vy[IMAGE_BLOCK];
+  for (int k = k0; k < k1; k += IMAGE_BLOCK) {
+    int n = k1 - k < IMAGE_BLOCK ? k1 - k : IMAGE_BLOCK;
+    texcoord_run(&o->imgcoords[face], &is->view, n, r->bary + k, r->px + k, r->py + k, r->pz + k, u, v, ux, uy,
+                 vx, vy);
+    for (int j = 0; j < n; j++) {
+      float t[4];   /* colour times alpha */
+      imagemap_sample(is->map, u[j], v[j], ux[j], vx[j], uy[j], vy[j], t);
+      float keep = 1 - t[3];   /* the base shows through what the image leaves */
+      r->br[k + j] = base[0] * keep + t[0];
+      r->bg[k + j] = base[1] * keep + t[1];
+      r->bb[k + j] = base[2] * keep + t[2];
+    }
+  }
+}
+
+void shade_base_block(const ShadeRow *r, const RenderObject *o, int k0, int n, float *R, float *G, float *B) {
+  if (o->style->image) {
+    memcpy(R, r->br + k0, (size_t)n * sizeof *R);
+    memcpy(G, r->bg + k0, (size_t)n * sizeof *G);
+    memcpy(B, r->bb + k0, (size_t)n * sizeof *B);
+    return;
+  }
+  const float *base = o->style->base;
+  for (int j = 0; j < n; j++) { R[j] = base[0]; G[j] = base[1]; B[j] = base[2]; }
 }
 
 int shade_style_init(RenderStyle *rs, const SceneStyle *st) {
@@ -111,7 +186,8 @@ int shade_style_init(RenderStyle *rs, const SceneStyle *st) {
   rs->alpha = st->shade.kind == SHADE_INK ? 0.0f : 1.0f;   /* ink: painted on the canvas later */
   rs->ink = NULL;                                          /* shade_ink_prepare */
   rs->layers = NULL;
-  return rs->kind == SHADE_THRESHOLD ? shade_threshold_init(rs, st) : 1;
+  int ok = image_style_init(rs, st);
+  return (rs->kind == SHADE_THRESHOLD ? shade_threshold_init(rs, st) : 1) && ok;
 }
 
 void shade_centre_init(const RenderFrame *f, RenderObject *o) {
@@ -132,9 +208,15 @@ void shade_centre_init(const RenderFrame *f, RenderObject *o) {
   }
 }
 
-void shade_style_free(RenderStyle *rs) { shade_threshold_free(rs); }
+void shade_style_free(RenderStyle *rs) {
+  shade_threshold_free(rs);
+  if (rs->image) imagemap_free(rs->image->map);
+  free(rs->image);
+  rs->image = NULL;
+}
 
 int shade_prepare_object(const RenderFrame *f, RenderObject *o) {
+  if (o->style->image) image_prepare(f, o);
   if (o->style->kind == SHADE_GOURAUD) shade_vertex_colors(f, o);
   if (o->style->kind == SHADE_BOKASHI) shade_bokashi_prepare(f, o);
   return o->style->kind == SHADE_THRESHOLD ? shade_threshold_prepare(f, o) : 1;
@@ -144,11 +226,12 @@ int shade_prepare_object(const RenderFrame *f, RenderObject *o) {
 
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n) {
   int m = n + SHADE_LANES;   /* spare lanes: shade_row_rebuild writes up to 3 past a run */
-  float *pl = xcalloc(11 * (size_t)m, sizeof *pl);   /* p, n, v, uv: one block, px first */
+  float *pl = xcalloc(14 * (size_t)m, sizeof *pl);   /* p, n, v, uv, base: one block, px first */
   *r = (ShadeRow){.frame = f, .px = pl, .py = pl + m, .pz = pl + 2 * m,
                   .nx = pl + 3 * m, .ny = pl + 4 * m, .nz = pl + 5 * m,
                   .vx = pl + 6 * m, .vy = pl + 7 * m, .vz = pl + 8 * m,
-                  .u = pl + 9 * m, .v = pl + 10 * m};
+                  .u = pl + 9 * m, .v = pl + 10 * m,
+                  .br = pl + 11 * m, .bg = pl + 12 * m, .bb = pl + 13 * m};
 }
 
 void shade_row_free(ShadeRow *r) { free(r->px); }
@@ -260,6 +343,8 @@ void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSamp
   s->v[0] = r->vx[k]; s->v[1] = r->vy[k]; s->v[2] = r->vz[k];
   s->uv[0] = r->u[k];
   s->uv[1] = r->v[k];
+  if (o->style->image) { s->base[0] = r->br[k]; s->base[1] = r->bg[k]; s->base[2] = r->bb[k]; }
+  else memcpy(s->base, o->style->base, sizeof s->base);
   s->sx = r->sx0 + k;
   s->sy = r->sy;
 }
@@ -277,25 +362,46 @@ float shade_specular(const float n[3], const float l[3], const float v[3], float
 /* ---- models -------------------------------------------------------------- */
 
 void shade_unlit(const ShadeSample *s, float rgb[3]) {
-  const float *base = s->obj->style->base;
-  rgb[0] = base[0]; rgb[1] = base[1]; rgb[2] = base[2];
+  rgb[0] = s->base[0]; rgb[1] = s->base[1]; rgb[2] = s->base[2];
 }
 
-/* The smooth lighting equation (T = identity) with normal n. */
-static void phong_terms(const RenderFrame *f, const RenderStyle *st, const float p[3],
-                        const float n[3], const float v[3], float rgb[3]) {
-  for (int c = 0; c < 3; c++) rgb[c] = st->base[c] * st->ambient;
+float shade_reach(const RenderFrame *f, int i, const RenderObject *o, int face, const float p[3]) {
+  const RenderLight *lt = &f->lights[i];
+  return lt->shadow && o->wfnrm ? shadow_visibility(lt->shadow, p, o->wfnrm[face]) : 1;
+}
+
+/* Light i's diffuse and specular terms with normal n, times its colour
+** and k, added to rgb. */
+static void phong_light(const RenderFrame *f, const RenderStyle *st, const float base[3], int i,
+                        const float p[3], const float n[3], const float v[3], float k, float rgb[3]) {
+  float l[3], col[3];
+  shade_light(f, i, p, l, col);
+  float fd = shade_diffuse(n, l);
+  float fs = st->specular > 0 ? st->specular * shade_specular(n, l, v, st->shininess) : 0;
+  for (int c = 0; c < 3; c++) rgb[c] += (base[c] * fd + fs) * (col[c] * k);
+}
+
+/* The smooth lighting equation (T = identity) with normal n; a light
+** that casts shadows reaches p on triangle face of o as far as its map
+** lets it (face < 0: every light wholly). */
+static void phong_terms(const RenderFrame *f, const RenderObject *o, int face, const float base[3],
+                        const float p[3], const float n[3], const float v[3], float rgb[3]) {
+  const RenderStyle *st = o->style;
+  for (int c = 0; c < 3; c++) rgb[c] = base[c] * st->ambient;
   for (int i = 0; i < f->nlights; i++) {
-    float l[3], col[3];
-    shade_light(f, i, p, l, col);
-    float fd = shade_diffuse(n, l);
-    float fs = st->specular > 0 ? st->specular * shade_specular(n, l, v, st->shininess) : 0;
-    for (int c = 0; c < 3; c++) rgb[c] += (st->base[c] * fd + fs) * col[c];
+    if (face >= 0 && f->lights[i].shadow) {
+      float l[3], col[3];
+      shade_light(f, i, p, l, col);
+      float k = shade_diffuse(n, l) > 0 ? shade_reach(f, i, o, face, p) : 0;
+      if (k > 0) phong_light(f, st, base, i, p, n, v, k, rgb);
+      continue;
+    }
+    phong_light(f, st, base, i, p, n, v, 1, rgb);
   }
 }
 
 void shade_phong(const ShadeSample *s, float rgb[3]) {
-  phong_terms(s->frame, s->obj->style, s->p, s->n, s->v, rgb);
+  phong_terms(s->frame, s->obj, s->face, s->base, s->p, s->n, s->v, rgb);
 }
 
 /* Flat: the lighting of the triangle's own plane, its normal turned toward
@@ -311,41 +417,86 @@ void shade_flat(const ShadeSample *s, float rgb[3]) {
                  e1[0] * e2[1] - e1[1] * e2[0]};
   norm3(ng);
   if (o->backfacing[s->face]) { ng[0] = -ng[0]; ng[1] = -ng[1]; ng[2] = -ng[2]; }
-  phong_terms(s->frame, o->style, s->p, ng, s->v, rgb);
+  phong_terms(s->frame, o, s->face, s->base, s->p, ng, s->v, rgb);
 }
 
 /* Gouraud: the vertex colours, interpolated; where the mesh has corner
-** normals (hard edges), each corner's own colour. */
+** normals (hard edges), each corner's own colour. With shadows, layer 0
+** of the colours holds the ambient and the lights that cast none, and
+** each light that casts one adds its own layer, interpolated the same
+** way and times the share of it reaching the sample's own point. With an
+** image map, each layer is two: what multiplies the base colour (the
+** ambient and diffuse terms of a white base) and the highlight, so the
+** map's colour is taken per sample. */
 void shade_gouraud(const ShadeSample *s, float rgb[3]) {
   const RenderObject *o = s->obj;
   const int *t = o->mesh->tri[s->face];
-  const float *c0 = o->vcolor[t[0]], *c1 = o->vcolor[t[1]], *c2 = o->vcolor[t[2]];
+  size_t i0 = t[0], i1 = t[1], i2 = t[2], count = (size_t)o->mesh->nverts;
   if (o->wcnrm) {
-    c0 = o->vcolor[3 * s->face]; c1 = o->vcolor[3 * s->face + 1]; c2 = o->vcolor[3 * s->face + 2];
+    i0 = 3 * (size_t)s->face; i1 = i0 + 1; i2 = i0 + 2; count = 3 * (size_t)o->mesh->ntris;
   }
   float b0 = 1 - s->b1 - s->b2;
-  for (int c = 0; c < 3; c++) rgb[c] = b0 * c0[c] + s->b1 * c1[c] + s->b2 * c2[c];
+  const float (*vc)[3] = o->vcolor;
+  int parts = o->style->image ? 2 : 1;
+  const RenderFrame *f = s->frame;
+  for (int c = 0; c < 3; c++) rgb[c] = 0;
+  for (int i = -1; i < f->nlights; i++) {   /* -1: layer 0 */
+    if (i >= 0 && !(f->lights[i].shadow && o->wfnrm)) continue;
+    float k = i < 0 ? 1 : shade_reach(f, i, o, s->face, s->p);
+    for (int c = 0; c < 3; c++) {
+      float d = b0 * vc[i0][c] + s->b1 * vc[i1][c] + s->b2 * vc[i2][c];
+      if (parts == 2) d = d * s->base[c] + (b0 * vc[count + i0][c] + s->b1 * vc[count + i1][c] + s->b2 * vc[count + i2][c]);
+      rgb[c] = i < 0 ? d : rgb[c] + k * d;
+    }
+    vc += parts * count;   /* the next layer */
+  }
 }
 
+/* What part of the phong terms a vertex keeps (lit_point). */
+enum { PART_ALL, PART_BASE, PART_SPECULAR };
+
 /* The phong terms at world point p with normal n turned toward the
-** viewer, into rgb. */
+** viewer into rgb: with layer < 0 every light's; else the ambient and the
+** lights that cast no shadow (layer 0), or the layer-th light that casts
+** one alone (layer >= 1). part: all of them, the factor of the base colour
+** (a white base without the highlight) or the highlight alone. */
 static void lit_point(const RenderFrame *f, const RenderObject *o, const float p[3], const float nrm[3],
-                      float rgb[3]) {
+                      int layer, int part, float rgb[3]) {
   Vec3 vd = camera_view_dir(&f->camera, v3(p[0], p[1], p[2]));
   float v[3] = {(float)vd.x, (float)vd.y, (float)vd.z};
   float n[3] = {nrm[0], nrm[1], nrm[2]};
   if (dot3(n, v) < 0) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
-  phong_terms(f, o->style, p, n, v, rgb);
+  RenderStyle st = *o->style;
+  static const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
+  const float *base = part == PART_BASE ? white : part == PART_SPECULAR ? black : st.base;
+  if (part == PART_BASE) st.specular = 0;
+  if (layer < 0 && part == PART_ALL) { phong_terms(f, o, -1, base, p, n, v, rgb); return; }
+  for (int c = 0; c < 3; c++) rgb[c] = layer <= 0 ? base[c] * st.ambient : 0;
+  for (int i = 0, j = 0; i < f->nlights; i++) {
+    int shadowed = f->lights[i].shadow != NULL && layer >= 0;
+    j += shadowed;
+    if (layer < 0 || (shadowed ? j == layer : layer == 0)) phong_light(f, &st, base, i, p, n, v, 1, rgb);
+  }
 }
 
 void shade_vertex_colors(const RenderFrame *f, RenderObject *o) {
   const Mesh *m = o->mesh;
-  if (o->wcnrm) {   /* hard edges: a colour per corner, from the corner's own normal */
-    o->vcolor = xmalloc((size_t)m->ntris * 3 * sizeof *o->vcolor + 1);
-    for (int t = 0; t < m->ntris; t++)
-      for (int k = 0; k < 3; k++) lit_point(f, o, o->wpos[m->tri[t][k]], o->wcnrm[t][k], o->vcolor[3 * t + k]);
-    return;
-  }
-  o->vcolor = xmalloc((size_t)m->nverts * sizeof *o->vcolor + 1);
-  for (int i = 0; i < m->nverts; i++) lit_point(f, o, o->wpos[i], o->wnrm[i], o->vcolor[i]);
+  int layers = 1, parts = o->style->image ? 2 : 1;
+  for (int i = 0; i < f->nlights; i++) layers += f->lights[i].shadow != NULL;
+  int split = layers > 1 && o->wfnrm;   /* shadows: a layer per light that casts them */
+  if (!split) layers = 1;
+  size_t count = o->wcnrm ? 3 * (size_t)m->ntris : (size_t)m->nverts;
+  o->vcolor = xmalloc((size_t)layers * parts * count * sizeof *o->vcolor + 1);
+  for (int layer = 0; layer < layers; layer++)
+    for (int part = 0; part < parts; part++) {
+      float (*vc)[3] = o->vcolor + (layer * parts + part) * count;
+      int which = split ? layer : -1, what = parts == 1 ? PART_ALL : part == 0 ? PART_BASE : PART_SPECULAR;
+      if (o->wcnrm) {   /* hard edges: a colour per corner, from the corner's own normal */
+        for (int t = 0; t < m->ntris; t++)
+          for (int k = 0; k < 3; k++)
+            lit_point(f, o, o->wpos[m->tri[t][k]], o->wcnrm[t][k], which, what, vc[3 * t + k]);
+      } else {
+        for (int i = 0; i < m->nverts; i++) lit_point(f, o, o->wpos[i], o->wnrm[i], which, what, vc[i]);
+      }
+    }
 }

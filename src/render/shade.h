@@ -43,6 +43,7 @@ typedef struct ShadeSample {
   float n[3];          /* unit shading normal, turned toward the viewer */
   float v[3];          /* unit vector toward the viewer */
   float uv[2];
+  float base[3];       /* the base colour here: the style's, or its image map's over it */
   int sx, sy;          /* its column and row in the frame's sample grid */
 } ShadeSample;
 
@@ -73,6 +74,8 @@ typedef struct ShadeRow {
   float *nx, *ny, *nz;
   float *vx, *vy, *vz;
   float *u, *v;
+  float *br, *bg, *bb; /* per sample base colour where the object's style has an image map
+                          (shade_image_run), else not read */
   int sx0, sy;         /* sample 0's column and the row in the frame's sample grid */
   /* antialiased (else NULL): where a model's colour steps (toon's bands,
   ** highlight and edge; antialias.h filters them): per sample, the level
@@ -82,12 +85,12 @@ typedef struct ShadeRow {
   uint32_t *step_key;
 } ShadeRow;
 
-/* Term t of a sample whose style is st (ShadeRow.step_key), from its
-** point p, unit normal n and view vector v: its smooth value, in units
+/* Term t of a sample of object o on its triangle face (ShadeRow.step_key),
+** from its point p, unit normal n and view vector v: its smooth value, in units
 ** where the step from level L to L + 1 is at L + 1, so that between two
 ** samples a step lies where the value, taken linear, crosses it; NAN for
 ** a term the style does not have. */
-float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const float p[3],
+float shade_step_value(const RenderFrame *f, const RenderObject *o, int face, int t, const float p[3],
                        const float n[3], const float v[3]);
 
 /* Samples shade_row_rebuild works on side by side. */
@@ -123,6 +126,16 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
 void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, float b1, float b2,
                       float p[3], float n[3], float v[3]);
 
+/* The base colour of samples k0..k1-1 of r, which show triangle face of
+** object o whose style has an image map (RenderStyle.image), into r's
+** base planes (br, bg, bb): the map's filtered colour at each sample's
+** (u, v) over the style's base (imagemap.h). */
+void shade_image_run(ShadeRow *r, const RenderObject *o, int face, int k0, int k1);
+
+/* The base colours of samples k0..k0+n-1 of r (object o) into R, G, B:
+** the image map's (shade_image_run) or the style's base. */
+void shade_base_block(const ShadeRow *r, const RenderObject *o, int k0, int n, float *R, float *G, float *B);
+
 /* Sample k of r, which shows object o, as one ShadeSample. */
 void shade_row_sample(const ShadeRow *r, const RenderObject *o, int k, ShadeSample *s);
 
@@ -148,6 +161,12 @@ typedef struct BokashiObject {
   float g[2];                  /* linear: the gradation point on screen, output pixels */
   float dir[2];                /* linear: unit screen direction of the light's rays at c */
   float rate;                  /* linear: gradation per output pixel at c's depth */
+  int light;                   /* linear: the strongest light at c (-1: none) */
+  /* when some light casts shadows (the object has wfnrm): each light's own
+  ** part of k (sphere), so that its shadow takes its share away, and for
+  ** the per-vertex sphere n.k_i at each vertex (nverts rows of nlights) */
+  float (*kl)[3];
+  float *vk;
 } BokashiObject;
 
 /* o->bokashi for f's camera and lights (o's centre set first), and for the
@@ -229,6 +248,11 @@ static inline void shade_light(const RenderFrame *f, int i, const float p[3], fl
   col[1] = lt->color[1] * k;
   col[2] = lt->color[2] * k;
 }
+
+/* The share of light i reaching world point p on triangle face of o: its
+** shadow map's visibility there (shadow.h), 1 for a light that casts no
+** shadow. */
+float shade_reach(const RenderFrame *f, int i, const RenderObject *o, int face, const float p[3]);
 
 /* The smooth diffuse term f_d = max(0, n.l). */
 static inline float shade_diffuse(const float n[3], const float l[3]) {

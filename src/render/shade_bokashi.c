@@ -28,6 +28,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../base/mem.h"
 
@@ -54,7 +55,49 @@ static float mixc(float a, float b, float t) { return a + t * (b - a); }
 
 static float clamp01(float x) { return x > 0 ? (x < 1 ? x : 1) : 0; }   /* NaN to 0 */
 
+/* The gradation's two ends at sample k of r (object o): the style's, or
+** with an image map and no colour given, the map's colour as the base
+** (lit = base, unlit = base times BOKASHI_UNLIT_DEFAULT). */
+static void ends_at(const ShadeRow *r, const RenderObject *o, int k, float lit[3], float unlit[3]) {
+  const RenderStyle *st = o->style;
+  const ShadeBokashi *b = &st->src->shade.bokashi;
+  memcpy(lit, st->lit_color, 3 * sizeof *lit);
+  memcpy(unlit, st->unlit_color, 3 * sizeof *unlit);
+  if (!st->image) return;
+  float base[3] = {r->br[k], r->bg[k], r->bb[k]};
+  for (int c = 0; c < 3; c++) {
+    if (!b->has_lit) lit[c] = base[c];
+    if (!b->has_unlit) unlit[c] = base[c] * BOKASHI_UNLIT_DEFAULT;
+  }
+}
+
 /* ---- bokashi 2: the sphere ------------------------------------------------- */
+
+/* The unit vector from c to vertex v of o's world positions into n (0 at c). */
+static void from_centre(const RenderObject *o, int v, const float c[3], float n[3]) {
+  n[0] = o->wpos[v][0] - c[0]; n[1] = o->wpos[v][1] - c[1]; n[2] = o->wpos[v][2] - c[2];
+  float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), il = l > 0 ? 1 / l : 0;
+  n[0] *= il; n[1] *= il; n[2] *= il;
+}
+
+/* With shadows: each light's part of k, and for the per-vertex sphere
+** n.k_i at each vertex. */
+static void sphere_prepare_shadowed(const RenderFrame *f, RenderObject *o, BokashiObject *b, float smod) {
+  const float *c = o->centre.world;
+  int nl = f->nlights;
+  b->kl = xcalloc((size_t)nl + 1, sizeof *b->kl);
+  for (int i = 0; i < nl; i++) {
+    float d[3], s = light_at_centre(f, i, c, d) * smod;
+    for (int k = 0; k < 3; k++) b->kl[i][k] = d[k] * s;
+  }
+  if (o->style->src->shade.bokashi.per_pixel) return;
+  b->vk = xmalloc((size_t)o->mesh->nverts * nl * sizeof *b->vk + 1);
+  for (int v = 0; v < o->mesh->nverts; v++) {
+    float n[3];
+    from_centre(o, v, c, n);
+    for (int i = 0; i < nl; i++) b->vk[(size_t)v * nl + i] = n[0] * b->kl[i][0] + n[1] * b->kl[i][1] + n[2] * b->kl[i][2];
+  }
+}
 
 static void sphere_prepare(const RenderFrame *f, RenderObject *o, BokashiObject *b) {
   const float *c = o->centre.world;
@@ -62,6 +105,10 @@ static void sphere_prepare(const RenderFrame *f, RenderObject *o, BokashiObject 
   for (int i = 0; i < f->nlights; i++) {
     float d[3], s = light_at_centre(f, i, c, d) * smod;
     for (int k = 0; k < 3; k++) b->k[k] += d[k] * s;
+  }
+  if (o->wfnrm) {
+    sphere_prepare_shadowed(f, o, b, smod);
+    return;
   }
   if (o->style->src->shade.bokashi.per_pixel) return;
   const RenderStyle *st = o->style;   /* Gouraud: the colour at each vertex, n = normalise(p - c) */
@@ -71,7 +118,35 @@ static void sphere_prepare(const RenderFrame *f, RenderObject *o, BokashiObject 
     float n[3] = {o->wpos[v][0] - c[0], o->wpos[v][1] - c[1], o->wpos[v][2] - c[2]};
     float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);   /* a vertex at c: f = 0 */
     float t = clamp01((n[0] * b->k[0] + n[1] * b->k[1] + n[2] * b->k[2]) * (l > 0 ? 1 / l : 0));
-    for (int k = 0; k < 3; k++) o->vcolor[v][k] = mixc(st->unlit_color[k], st->lit_color[k], t);
+    for (int k = 0; k < 3; k++)   /* with an image map, t itself: the ends are the sample's */
+      o->vcolor[v][k] = st->image ? t : mixc(st->unlit_color[k], st->lit_color[k], t);
+  }
+}
+
+/* With shadows, samples k0..k1-1 of r: f = clamp(sum_i vis_i n.k_i), each
+** light's part times the share of it reaching the sample's point (per
+** pixel: n = normalise(p - c); per vertex: n.k_i interpolated). */
+static void sphere_span_shadowed(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
+                                 int stride) {
+  const RenderFrame *f = r->frame;
+  const BokashiObject *b = o->bokashi;
+  const float *c = o->centre.world;
+  int nl = f->nlights;
+  for (int k = k0; k < k1; k++) {
+    float p[3] = {r->px[k], r->py[k], r->pz[k]}, n[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+    float dd = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], in = dd > 0 ? 1 / sqrtf(dd) : 0;
+    const int *t = o->mesh->tri[r->face[k]];
+    float b1 = r->bary[k][0], b2 = r->bary[k][1], b0 = 1 - b1 - b2, sum = 0;
+    for (int i = 0; i < nl; i++) {
+      float part = b->vk ? b0 * b->vk[(size_t)t[0] * nl + i] + b1 * b->vk[(size_t)t[1] * nl + i] +
+                               b2 * b->vk[(size_t)t[2] * nl + i]
+                         : (n[0] * b->kl[i][0] + n[1] * b->kl[i][1] + n[2] * b->kl[i][2]) * in;
+      if (part > 0 && f->lights[i].shadow) part *= shade_reach(f, i, o, r->face[k], p);
+      sum += part;
+    }
+    float *out = rgb + (size_t)k * stride, w = clamp01(sum), l[3], u[3];
+    ends_at(r, o, k, l, u);
+    for (int q = 0; q < 3; q++) out[q] = mixc(u[q], l[q], w);
   }
 }
 
@@ -93,6 +168,14 @@ static void sphere_span(const ShadeRow *r, const RenderObject *o, int k0, int k1
       f[j] = t > 0 ? (t < 1 ? t : 1) : 0;
     }
     float *out = rgb + (size_t)k * stride;
+    if (o->style->image) {
+      for (int j = 0; j < n; j++, out += stride) {
+        float l[3], u[3];
+        ends_at(r, o, k + j, l, u);
+        for (int q = 0; q < 3; q++) out[q] = mixc(u[q], l[q], f[j]);
+      }
+      continue;
+    }
     for (int j = 0; j < n; j++, out += stride)
       for (int q = 0; q < 3; q++) out[q] = mixc(unlit[q], lit[q], f[j]);
   }
@@ -106,6 +189,11 @@ static void vertex_span(const ShadeRow *r, const RenderObject *o, int k0, int k1
     float *out = rgb + (size_t)k * stride;
     for (int c = 0; c < 3; c++)
       out[c] = b0 * o->vcolor[t[0]][c] + b1 * o->vcolor[t[1]][c] + b2 * o->vcolor[t[2]][c];
+    if (o->style->image) {   /* the colours held t: the ends are the sample's */
+      float l[3], u[3];
+      ends_at(r, o, k, l, u);
+      for (int c = 0; c < 3; c++) out[c] = mixc(u[c], l[c], out[c]);
+    }
   }
 }
 
@@ -128,9 +216,10 @@ static void linear_prepare(const RenderFrame *f, RenderObject *o, BokashiObject 
   const Camera *cam = &f->camera;
   Vec3 c = v3(rc->world[0], rc->world[1], rc->world[2]);
   float best = -1, ray[3] = {0, 0, -1};   /* the strongest light at c (the first of equals) */
+  b->light = -1;
   for (int i = 0; i < f->nlights; i++) {
     float d[3], s = light_at_centre(f, i, rc->world, d);
-    if (s > best) { best = s; ray[0] = -d[0]; ray[1] = -d[1]; ray[2] = -d[2]; }
+    if (s > best) { best = s; ray[0] = -d[0]; ray[1] = -d[1]; ray[2] = -d[2]; b->light = i; }
   }
   float S = best > 0 ? best : 0;
   /* the ray's screen direction at c: pixels a scene unit along it */
@@ -156,10 +245,21 @@ static void linear_span(const ShadeRow *r, const RenderObject *o, int k0, int k1
   const float *lit = o->style->lit_color, *unlit = o->style->unlit_color;
   float inv_n = 1.0f / (float)r->frame->samples;
   float y = ((float)r->sy + 0.5f) * inv_n - b->g[1];
+  int shadowed = o->wfnrm && b->light >= 0 && r->frame->lights[b->light].shadow;
   for (int k = k0; k < k1; k++) {
     float x = ((float)(r->sx0 + k) + 0.5f) * inv_n - b->g[0];
     float t = clamp01((x * b->dir[0] + y * b->dir[1]) * b->rate);   /* 0 on the lit side */
+    if (shadowed) {   /* in the strongest light's shadow, toward unlit */
+      float p[3] = {r->px[k], r->py[k], r->pz[k]};
+      t = 1 - (1 - t) * shade_reach(r->frame, b->light, o, r->face[k], p);
+    }
     float *out = rgb + (size_t)k * stride;
+    if (o->style->image) {
+      float l[3], u[3];
+      ends_at(r, o, k, l, u);
+      for (int c = 0; c < 3; c++) out[c] = mixc(l[c], u[c], t);
+      continue;
+    }
     for (int c = 0; c < 3; c++) out[c] = mixc(lit[c], unlit[c], t);
   }
 }
@@ -174,6 +274,8 @@ void shade_bokashi_prepare(const RenderFrame *f, RenderObject *o) {
 
 void shade_bokashi_free(RenderObject *o) {
   if (!o->bokashi) return;
+  free(o->bokashi->kl);
+  free(o->bokashi->vk);
   free(o->bokashi);
   o->bokashi = NULL;
 }
@@ -181,6 +283,7 @@ void shade_bokashi_free(RenderObject *o) {
 void shade_bokashi_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride) {
   const ShadeBokashi *sb = &o->style->src->shade.bokashi;
   if (!sb->sphere) linear_span(r, o, k0, k1, rgb, stride);
+  else if (o->bokashi->kl) sphere_span_shadowed(r, o, k0, k1, rgb, stride);
   else if (sb->per_pixel) sphere_span(r, o, k0, k1, rgb, stride);
   else vertex_span(r, o, k0, k1, rgb, stride);
 }

@@ -97,43 +97,91 @@ static inline float dot3(const float a[3], const float b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* Light j of k's list: its index in f->lights. */
+static int ink_light(const InkStyle *k, int j) { return k->nlights ? k->lights[j] : j; }
+
+/* Layers of an ink object's vertex greys: 1, and with shadows one more for
+** each of its lights that casts them. */
+static int ink_layers(const RenderFrame *f, const RenderObject *o, const InkStyle *k) {
+  int n = 1, nl = k->nlights ? k->nlights : f->nlights;
+  if (!o->wfnrm) return 1;
+  for (int j = 0; j < nl; j++) n += f->lights[ink_light(k, j)].shadow != NULL;
+  return n;
+}
+
 /* The Gouraud grey at world point p with unit normal n (toward the viewer
 ** v): the thesis's lighting with its weights, clamped as a frame buffer
-** clamps. */
+** clamps (layer < 0). With shadows, unclamped parts: the ambient and the
+** lights that cast none (layer 0), or the layer-th light that casts them
+** alone. */
 static float ink_grey(const RenderFrame *f, const InkStyle *k, const float p[3], const float n[3],
-                      const float v[3]) {
-  float g = k->ambient;
+                      const float v[3], int layer) {
+  float g = layer <= 0 ? k->ambient : 0;
   int nl = k->nlights ? k->nlights : f->nlights;
-  for (int j = 0; j < nl; j++) {
+  for (int j = 0, shadowed = 0; j < nl; j++) {
+    int i = ink_light(k, j);
+    shadowed += f->lights[i].shadow != NULL;
+    if (layer >= 0 && (f->lights[i].shadow ? shadowed != layer : layer != 0)) continue;
     float l[3], col[3];
-    shade_light(f, k->nlights ? k->lights[j] : j, p, l, col);
+    shade_light(f, i, p, l, col);
     float lum = 0.2126f * col[0] + 0.7152f * col[1] + 0.0722f * col[2];
     float fs = k->specular > 0 ? k->specular * shade_specular(n, l, v, k->shininess) : 0;
     g += lum * (k->diffuse * shade_diffuse(n, l) + fs);
   }
+  if (layer >= 0) return g;
   return g > 0 ? (g < 1 ? g : 1) : 0;   /* NaN to 0 */
 }
 
 /* The grey at world point p with normal nrm turned toward the viewer. */
-static float grey_at(const RenderFrame *f, const InkStyle *k, const float p[3], const float nrm[3]) {
+static float grey_at(const RenderFrame *f, const InkStyle *k, const float p[3], const float nrm[3], int layer) {
   Vec3 vd = camera_view_dir(&f->camera, v3(p[0], p[1], p[2]));
   float v[3] = {(float)vd.x, (float)vd.y, (float)vd.z};
   float n[3] = {nrm[0], nrm[1], nrm[2]};
   if (dot3(n, v) < 0) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
-  return ink_grey(f, k, p, n, v);
+  return ink_grey(f, k, p, n, v, layer);
 }
 
 void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o) {
   const InkStyle *k = o->style->ink;
   const Mesh *m = o->mesh;
-  if (o->wcnrm) {   /* hard edges: a grey per triangle corner, with that corner's normal */
-    o->vink = xmalloc((size_t)m->ntris * 3 * sizeof *o->vink + 1);
-    for (int t = 0; t < m->ntris; t++)
-      for (int c = 0; c < 3; c++) o->vink[3 * t + c] = grey_at(f, k, o->wpos[m->tri[t][c]], o->wcnrm[t][c]);
-    return;
+  int layers = ink_layers(f, o, k);
+  size_t count = o->wcnrm ? 3 * (size_t)m->ntris : (size_t)m->nverts;
+  o->vink = xmalloc((size_t)layers * count * sizeof *o->vink + 1);
+  for (int layer = 0; layer < layers; layer++) {
+    float *vi = o->vink + layer * count;
+    int which = layers > 1 ? layer : -1;
+    if (o->wcnrm) {   /* hard edges: a grey per triangle corner, with that corner's normal */
+      for (int t = 0; t < m->ntris; t++)
+        for (int c = 0; c < 3; c++) vi[3 * t + c] = grey_at(f, k, o->wpos[m->tri[t][c]], o->wcnrm[t][c], which);
+    } else {
+      for (int i = 0; i < m->nverts; i++) vi[i] = grey_at(f, k, o->wpos[i], o->wnrm[i], which);
+    }
   }
-  o->vink = xmalloc((size_t)m->nverts * sizeof *o->vink + 1);
-  for (int i = 0; i < m->nverts; i++) o->vink[i] = grey_at(f, k, o->wpos[i], o->wnrm[i]);
+}
+
+float shade_ink_grey(const RenderFrame *f, const RenderObject *o, int face, const float b[2]) {
+  float b1 = b[0], b2 = b[1], b0 = 1 - b1 - b2;
+  const int *t = o->mesh->tri[face];
+  size_t i0 = t[0], i1 = t[1], i2 = t[2], count = (size_t)o->mesh->nverts;
+  if (o->wcnrm) {   /* a grey per corner */
+    i0 = 3 * (size_t)face; i1 = i0 + 1; i2 = i0 + 2; count = 3 * (size_t)o->mesh->ntris;
+  }
+  const float *v = o->vink;
+  float g = b0 * v[i0] + b1 * v[i1] + b2 * v[i2];
+  const InkStyle *k = o->style->ink;
+  if (ink_layers(f, o, k) == 1) return g;
+  const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
+  float p[3];   /* the sample's point, as shade_surface_at makes it */
+  for (int c = 0; c < 3; c++) p[c] = b0 * p0[c] + b1 * p1[c] + b2 * p2[c];
+  int nl = k->nlights ? k->nlights : f->nlights;
+  for (int j = 0; j < nl; j++) {
+    int i = ink_light(k, j);
+    if (!f->lights[i].shadow) continue;
+    v += count;   /* the next layer: light i's */
+    float part = b0 * v[i0] + b1 * v[i1] + b2 * v[i2];
+    if (part > 0) g += part * shade_reach(f, i, o, face, p);
+  }
+  return g > 0 ? (g < 1 ? g : 1) : 0;   /* NaN to 0 */
 }
 
 void shade_ink_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb, int stride) {

@@ -37,6 +37,7 @@
 #include "../base/rng.h"
 #include "../lang/diag.h"
 #include "hatch.h"
+#include "shadow.h"
 #include "texcoord.h"
 #include "texture.h"
 
@@ -466,6 +467,8 @@ static void ramp_sample(const ShadeSample *s, const RenderStyle *st, const Block
     float l[3], col[3];
     shade_light(s->frame, i, s->p, l, col);
     float w = (col[0] + col[1] + col[2]) / 3;
+    if (s->frame->lights[i].shadow && s->obj->wfnrm)   /* the share of it a shadow lets through */
+      w *= shade_diffuse(s->n, l) > 0 ? shade_reach(s->frame, i, s->obj, s->face, s->p) : 0;
     d[j] += shade_diffuse(s->n, l) * w;
     if (st->specular > 0) sp[j] += shade_specular(s->n, l, s->v, st->shininess) * w;
   }
@@ -550,18 +553,23 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
 
 /* The bands for the block's samples (samples k0.. of r): each light's
 ** textured steps on the diffuse and specular terms, summed per channel. */
-static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b, int k0, float *R,
+static void bands_block(const ShadeRow *r, const RenderObject *o, const Block *b, int k0, float *R,
                         float *G, float *B) {
+  const RenderStyle *st = o->style;
   const ThresholdStyle *ts = st->layers;
-  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0, *base = st->base;
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   int n = b->n4;   /* the padding lanes too: whole SIMD groups */
   float lx[BLOCK], ly[BLOCK], lz[BLOCK], fall[BLOCK], nl[BLOCK], td[BLOCK], fs[BLOCK], tsp[BLOCK];
+  float vis[BLOCK], bR[BLOCK], bG[BLOCK], bB[BLOCK];   /* the base colour, per sample */
+  shade_base_block(r, o, k0, b->n, bR, bG, bB);
+  for (int j = b->n; j < n; j++) { bR[j] = bR[b->n - 1]; bG[j] = bG[b->n - 1]; bB[j] = bB[b->n - 1]; }
   for (int j = 0; j < n; j++) {
-    R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
+    R[j] = bR[j] * st->ambient; G[j] = bG[j] * st->ambient; B[j] = bB[j] * st->ambient;
   }
   for (int i = 0; i < r->frame->nlights; i++) {
     const RenderLight *lt = &r->frame->lights[i];
-    if (lt->directional && !(st->specular > 0)) {   /* a sun and no highlight: n.l alone */
+    int shadowed = lt->shadow && o->wfnrm;
+    if (lt->directional && !(st->specular > 0) && !shadowed) {   /* a sun and no highlight: n.l alone */
       float dx = lt->dir[0], dy = lt->dir[1], dz = lt->dir[2];
       for (int j = 0; j < n; j++) {
         float d = nx[j] * dx + ny[j] * dy + nz[j] * dz;
@@ -576,9 +584,18 @@ static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b
         td[j] = d > 0 ? d : 0;
       }
     }
+    if (shadowed) {   /* the terms of the light that arrives, before their steps */
+      const int32_t *face = r->face + k0;
+      int m = n < b->n ? n : b->n;   /* the padding lanes repeat the last sample */
+      shadow_run(lt->shadow, o, m, face, r->px + k0, r->py + k0, r->pz + k0, nl, vis);
+      for (int j = m; j < n; j++) vis[j] = m > 0 ? vis[m - 1] : 0;
+      for (int j = 0; j < n; j++) td[j] *= vis[j];
+    }
     textured_step(ts, b, TERM_DIFFUSE_BIT, td, st->bands_n, st->inv_bands_n, st->threshold, td, 0, n);
     int s0 = 0, s1 = 0;   /* the samples a highlight may reach, in whole SIMD groups */
     if (st->specular > 0) specular_block(r, st, k0, n, lx, ly, lz, nl, fs, &s0, &s1);
+    if (shadowed && st->specular > 0)
+      for (int j = s0; j < s1; j++) fs[j] *= vis[j];
     s0 &= ~3;
     s1 = (s1 + 3) & ~3;
     for (int j = 0; j < n; j++) tsp[j] = 0;
@@ -586,9 +603,9 @@ static void bands_block(const ShadeRow *r, const RenderStyle *st, const Block *b
     for (int j = 0; j < n; j++) {
       float spec = st->specular * tsp[j];
       float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
-      R[j] += (base[0] * td[j] + spec) * c0;
-      G[j] += (base[1] * td[j] + spec) * c1;
-      B[j] += (base[2] * td[j] + spec) * c2;
+      R[j] += (bR[j] * td[j] + spec) * c0;
+      G[j] += (bG[j] * td[j] + spec) * c1;
+      B[j] += (bB[j] * td[j] + spec) * c2;
     }
   }
 }
@@ -617,7 +634,7 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
         R[j] = c[0]; G[j] = c[1]; B[j] = c[2];
       }
     } else {
-      bands_block(r, st, &b, k, R, G, B);
+      bands_block(r, o, &b, k, R, G, B);
     }
     if (st->edge > 0)   /* edge = max(0, n.v) below the cutoff: the edge colour */
       for (int j = 0; j < b.n4; j++) {

@@ -12,6 +12,8 @@
 
 #include <math.h>
 
+#include "shadow.h"
+
 static inline float dot3(const float a[3], const float b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -23,15 +25,26 @@ static const Color *ramp_at(const Color *ramp, int n, float x) {
   return &ramp[i < 0 ? 0 : i >= n ? n - 1 : i];
 }
 
+/* Light i's weight in the ramps' sums at point p (normal n, on triangle
+** face of o) lit from l with colour col: its mean intensity, times the
+** share of it reaching p when it casts shadows. */
+static float ramp_weight(const RenderFrame *f, int i, const RenderObject *o, int face, const float p[3],
+                         const float n[3], const float l[3], const float col[3]) {
+  float w = (col[0] + col[1] + col[2]) / 3;
+  if (!f->lights[i].shadow || !o->wfnrm) return w;
+  return dot3(n, l) > 0 ? w * shade_reach(f, i, o, face, p) : 0;
+}
+
 /* Colour ramps: the diffuse (and specular) values of all lights, weighted
-** by each light's mean intensity, index the ramps. */
+** by each light's mean intensity (and the share of it a shadow lets
+** through), index the ramps. */
 static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeToon *t,
                        float rgb[3]) {
   float d = 0, sp = 0;
   for (int i = 0; i < s->frame->nlights; i++) {
     float l[3], col[3];
     shade_light(s->frame, i, s->p, l, col);
-    float w = (col[0] + col[1] + col[2]) / 3;
+    float w = ramp_weight(s->frame, i, s->obj, s->face, s->p, s->n, l, col);
     d += shade_diffuse(s->n, l) * w;
     if (st->specular > 0) sp += shade_specular(s->n, l, s->v, st->shininess) * w;
   }
@@ -53,6 +66,12 @@ static void toon_ramps(const ShadeSample *s, const RenderStyle *st, const ShadeT
 static float banded_specular_tail(const RenderStyle *st, float nh, float hh) {
   nh /= sqrtf(hh);
   return shade_step_inv(powf(nh, st->shininess), st->spec_threshold, st->spec_n, st->inv_spec_n);
+}
+
+/* The same for a light of which only the share vis arrives: T_m(f_s vis). */
+static float banded_specular_shadowed(const RenderStyle *st, float nh, float hh, float vis) {
+  nh /= sqrtf(hh);
+  return shade_step_inv(powf(nh, st->shininess) * vis, st->spec_threshold, st->spec_n, st->inv_spec_n);
 }
 
 /* Samples a block of the bands loop works on: its temporaries live on the
@@ -81,7 +100,7 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
 ** root, most samples) and the power only for the few that do. */
 static void highlight_block(const ShadeRow *r, const RenderStyle *st, int k0, int n,
                             const float *lx, const float *ly, const float *lz, const float *nl,
-                            float *restrict ts) {
+                            const float *vis, float *restrict ts) {
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
   float cut2 = st->spec_cut * st->spec_cut, nhs[TOON_BLOCK], hhs[TOON_BLOCK];
@@ -95,7 +114,10 @@ static void highlight_block(const ShadeRow *r, const RenderStyle *st, int k0, in
     any |= lit[j];
     ts[j] = 0;
   }
-  if (any)
+  if (any && vis)   /* a light that casts shadows: what arrives of it */
+    for (int j = 0; j < n; j++)
+      if (lit[j] && vis[j] > 0) ts[j] = st->specular * banded_specular_shadowed(st, nhs[j], hhs[j], vis[j]);
+  if (any && !vis)
     for (int j = 0; j < n; j++)
       if (lit[j]) ts[j] = st->specular * banded_specular_tail(st, nhs[j], hhs[j]);
 }
@@ -146,8 +168,9 @@ static void light_levels(const ShadeRow *r, const RenderStyle *st, int i, int k0
   for (int j = 0; j < n; j++) key[j] |= ((uint32_t)((int)(ts[j] * m + 0.5f) - 1) & 0xffu) << (8 * t);
 }
 
-float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const float p[3],
+float shade_step_value(const RenderFrame *f, const RenderObject *o, int face, int t, const float p[3],
                        const float n[3], const float v[3]) {
+  const RenderStyle *st = o->style;
   if (st->kind != SHADE_TOON) return NAN;
   if (st->edge > 0 && t-- == 0) return dot3(n, v) - st->edge;
   const ShadeToon *tn = &st->src->shade.toon;
@@ -156,7 +179,7 @@ float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const
     for (int i = 0; i < f->nlights; i++) {
       float l[3], col[3];
       shade_light(f, i, p, l, col);
-      float w = (col[0] + col[1] + col[2]) / 3;
+      float w = ramp_weight(f, i, o, face, p, n, l, col);
       d += shade_diffuse(n, l) * w;
       if (st->specular > 0) sp += shade_specular(n, l, v, st->shininess) * w;
     }
@@ -168,8 +191,55 @@ float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const
   if (i >= f->nlights) return NAN;
   float l[3], col[3];
   shade_light(f, i, p, l, col);
-  if (t % per == 0) return dot3(n, l) * st->bands_n - st->threshold;   /* not clamped: its true distance */
-  return shade_specular(n, l, v, st->shininess) * st->spec_n - st->spec_threshold;
+  float nl = dot3(n, l), vis = 1;
+  if (f->lights[i].shadow && o->wfnrm) vis = nl > 0 ? shade_reach(f, i, o, face, p) : 0;
+  if (t % per == 0)   /* not clamped: its true distance (in shadow, the light that arrives) */
+    return (nl > 0 ? nl * vis : nl) * st->bands_n - st->threshold;
+  return shade_specular(n, l, v, st->shininess) * vis * st->spec_n - st->spec_threshold;
+}
+
+/* Light i, which casts shadows, on samples k0..k0+n-1 of r (object o):
+** its terms scaled by the share of it reaching each sample before the
+** steps, T_n(f_d vis) and T_m(f_s vis), so a shadow is a band of its own
+** with the bands' crisp edges (the cel-shading look), added to R, G, B. */
+static void toon_shadowed_light(const ShadeRow *r, const RenderObject *o, int i, int k0, int n,
+                                const float *bR, const float *bG, const float *bB,
+                                float *restrict R, float *restrict G, float *restrict B) {
+  const RenderStyle *st = o->style;
+  const RenderLight *lt = &r->frame->lights[i];
+  const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
+  float lx[TOON_BLOCK], ly[TOON_BLOCK], lz[TOON_BLOCK], fall[TOON_BLOCK];
+  float nl[TOON_BLOCK], vis[TOON_BLOCK], td[TOON_BLOCK], ts[TOON_BLOCK];
+  light_block(lt, r, k0, n, lx, ly, lz, fall);
+  for (int j = 0; j < n; j++) nl[j] = nx[j] * lx[j] + ny[j] * ly[j] + nz[j] * lz[j];
+  /* the map is read only where the light that arrives can show: where
+  ** n.l reaches the first band's step (below it T_n is 0 however much
+  ** arrives) or the highlight may pass its cut; elsewhere vis is 0, the
+  ** same colour */
+  float need[TOON_BLOCK], first = st->threshold * st->inv_bands_n;
+  for (int j = 0; j < n; j++) need[j] = nl[j] >= first ? nl[j] : 0;
+  if (st->specular > 0) {
+    const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
+    float cut2 = st->spec_cut * st->spec_cut;
+    for (int j = 0; j < n; j++) {
+      float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];
+      float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
+      need[j] = nh > 0 && nh * nh > cut2 * hh ? nl[j] : need[j];
+    }
+  }
+  shadow_run(lt->shadow, o, n, r->face + k0, r->px + k0, r->py + k0, r->pz + k0, need, vis);
+  for (int j = 0; j < n; j++) {
+    td[j] = shade_step_inv(nl[j] > 0 ? nl[j] * vis[j] : 0, st->threshold, st->bands_n, st->inv_bands_n);
+    ts[j] = 0;
+  }
+  if (st->specular > 0) highlight_block(r, st, k0, n, lx, ly, lz, nl, vis, ts);
+  if (r->step_key) light_levels(r, st, i, k0, n, td, ts);
+  for (int j = 0; j < n; j++) {
+    float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
+    R[j] += (bR[j] * td[j] + ts[j]) * c0;
+    G[j] += (bG[j] * td[j] + ts[j]) * c1;
+    B[j] += (bB[j] * td[j] + ts[j]) * c2;
+  }
 }
 
 /* Bands for samples k0..k0+n-1 (n <= TOON_BLOCK): T_n on each light's
@@ -178,19 +248,25 @@ float shade_step_value(const RenderFrame *f, const RenderStyle *st, int t, const
 ** shaded alone (shade_toon) or in a block; the loops run several samples
 ** at a time, all but the power of the few samples whose highlight passes
 ** the cut. */
-static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, int n,
+static void toon_bands_block(const ShadeRow *r, const RenderObject *o, int k0, int n,
                              float *restrict R, float *restrict G, float *restrict B) {
+  const RenderStyle *st = o->style;
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
-  const float *base = st->base;
+  float bR[TOON_BLOCK], bG[TOON_BLOCK], bB[TOON_BLOCK];   /* the base colour, per sample */
+  shade_base_block(r, o, k0, n, bR, bG, bB);
   float lx[TOON_BLOCK], ly[TOON_BLOCK], lz[TOON_BLOCK], fall[TOON_BLOCK];
   float nl[TOON_BLOCK], td[TOON_BLOCK], ts[TOON_BLOCK];
   for (int j = 0; j < n; j++) {
-    R[j] = base[0] * st->ambient; G[j] = base[1] * st->ambient; B[j] = base[2] * st->ambient;
+    R[j] = bR[j] * st->ambient; G[j] = bG[j] * st->ambient; B[j] = bB[j] * st->ambient;
     ts[j] = 0;   /* no specular: stays 0 */
   }
   for (int i = 0; i < r->frame->nlights; i++) {
     const RenderLight *lt = &r->frame->lights[i];
+    if (lt->shadow && o->wfnrm) {
+      toon_shadowed_light(r, o, i, k0, n, bR, bG, bB, R, G, B);
+      continue;
+    }
     if (lt->directional && !(st->specular > 0 && any_highlight(r, st, lt->dir, k0, n))) {
       /* the common case: a sun and no highlight in the block, one loop */
       float dx = lt->dir[0], dy = lt->dir[1], dz = lt->dir[2];
@@ -199,9 +275,9 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
         float d = nx[j] * dx + ny[j] * dy + nz[j] * dz;
         float t = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
         td[j] = t;
-        R[j] += (base[0] * t + 0.0f) * c0;   /* + 0: the specular term, as below */
-        G[j] += (base[1] * t + 0.0f) * c1;
-        B[j] += (base[2] * t + 0.0f) * c2;
+        R[j] += (bR[j] * t + 0.0f) * c0;   /* + 0: the specular term, as below */
+        G[j] += (bG[j] * t + 0.0f) * c1;
+        B[j] += (bB[j] * t + 0.0f) * c2;
       }
       if (r->step_key) light_levels(r, st, i, k0, n, td, NULL);
       continue;
@@ -212,13 +288,13 @@ static void toon_bands_block(const ShadeRow *r, const RenderStyle *st, int k0, i
       nl[j] = d;
       td[j] = shade_step_inv(d > 0 ? d : 0, st->threshold, st->bands_n, st->inv_bands_n);
     }
-    if (st->specular > 0) highlight_block(r, st, k0, n, lx, ly, lz, nl, ts);
+    if (st->specular > 0) highlight_block(r, st, k0, n, lx, ly, lz, nl, NULL, ts);
     if (r->step_key) light_levels(r, st, i, k0, n, td, ts);
     for (int j = 0; j < n; j++) {
       float c0 = lt->color[0] * fall[j], c1 = lt->color[1] * fall[j], c2 = lt->color[2] * fall[j];
-      R[j] += (base[0] * td[j] + ts[j]) * c0;
-      G[j] += (base[1] * td[j] + ts[j]) * c1;
-      B[j] += (base[2] * td[j] + ts[j]) * c2;
+      R[j] += (bR[j] * td[j] + ts[j]) * c0;
+      G[j] += (bG[j] * td[j] + ts[j]) * c1;
+      B[j] += (bB[j] * td[j] + ts[j]) * c2;
     }
   }
   if (!(st->edge > 0)) return;
@@ -245,7 +321,7 @@ static void toon_ramp_levels(const ShadeRow *r, const ShadeSample *s, const Rend
   for (int i = 0; i < s->frame->nlights; i++) {
     float l[3], col[3];
     shade_light(s->frame, i, s->p, l, col);
-    float w = (col[0] + col[1] + col[2]) / 3;
+    float w = ramp_weight(s->frame, i, s->obj, s->face, s->p, s->n, l, col);
     d += shade_diffuse(s->n, l) * w;
     if (st->specular > 0) sp += shade_specular(s->n, l, s->v, st->shininess) * w;
   }
@@ -281,7 +357,7 @@ void shade_toon_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, f
   float R[TOON_BLOCK], G[TOON_BLOCK], B[TOON_BLOCK];
   for (int k = k0; k < k1; k += TOON_BLOCK) {
     int n = k1 - k < TOON_BLOCK ? k1 - k : TOON_BLOCK;
-    toon_bands_block(r, st, k, n, R, G, B);
+    toon_bands_block(r, o, k, n, R, G, B);
     float *out = rgb + (size_t)k * stride;
     for (int j = 0; j < n; j++, out += stride) {
       out[0] = R[j]; out[1] = G[j]; out[2] = B[j];

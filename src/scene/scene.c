@@ -35,6 +35,7 @@ SceneStyle scene_default_style(void) {
   SceneStyle st;
   memset(&st, 0, sizeof st);
   st.base = (Color){0.6f, 0.6f, 0.6f, 1};
+  st.texture_repeat = 1;
   st.shade.kind = SHADE_TOON;
   st.shade.toon.bands = 3;
   st.shade.toon.threshold = 0.5;
@@ -111,7 +112,7 @@ int scene_any_image(const Scene *s, int (*pred)(const char *name)) {
   if (s->output.sheet.texture && pred(s->output.sheet.texture)) return 1;
   for (int i = 0; i < s->nstyles; i++) {
     const SceneStyle *st = &s->styles[i];
-    if ((st->lines.present && st->lines.texture && pred(st->lines.texture)) ||
+    if ((st->texture && pred(st->texture)) || (st->lines.present && st->lines.texture && pred(st->lines.texture)) ||
         (st->shade.kind == SHADE_ORIGAMI && st->shade.origami_texture && pred(st->shade.origami_texture)))
       return 1;
     for (int k = 0; k < st->nparams; k++)

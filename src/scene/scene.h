@@ -28,11 +28,21 @@ typedef struct SceneSheet {
   SrcRange loc;
 } SceneSheet;
 
+/* Most colours a vertical background gradient may have. */
+#define SCENE_MAX_BACKGROUND_STOPS 16
+
 typedef struct SceneOutput {
   int width, height;          /* 0 = not set (defaults to 640x480) */
   int samples;                /* N x N samples a pixel, >= 1 */
   int antialias;              /* 1 (default): edges and toon bands by coverage */
-  Color background;
+  Color background;           /* a flat background; a gradient's top colour, opaque */
+  int nstops;                 /* `background c1, c2, ...`: a vertical gradient from c1 at
+                                 the top to the last at the bottom (>= 2), else 0 */
+  Color *stops;
+  const char *backdrop;       /* `background "file"`: an image scaled to the frame (resolved
+                                 against the scene's folder), else NULL */
+  const char *backdrop_name;  /* as written, for messages */
+  SrcRange background_loc;
   SceneSheet sheet;
   SrcRange loc;
 } SceneOutput;
@@ -286,6 +296,11 @@ typedef struct ScenePattern {
 typedef struct SceneStyle {
   const char *name;           /* NULL for an anonymous style */
   Color base;
+  const char *texture;        /* `texture "file"`: an image on the (u, v), resolved against the
+                                 scene's folder, in place of base (render/imagemap.h); or NULL */
+  const char *texture_name;   /* as written, for messages */
+  double texture_repeat;      /* copies of the image across a unit of u and of v (1) */
+  SrcRange texture_loc;
   SceneShade shade;
   SceneLines lines;
   SceneNoise noise;

@@ -266,8 +266,9 @@ TEST(span_equals_samples_alone) {
     face[k] = 0;
     bary[k][0] = bary[k][1] = 0;
   }
-  ShadeRow row = {&f, face, (const float(*)[2])bary, planes[0], planes[1], planes[2], planes[3],
-                  planes[4], planes[5], planes[6], planes[7], planes[8], planes[9], planes[10], 0, 0, NULL};
+  ShadeRow row = {.frame = &f, .face = face, .bary = (const float(*)[2])bary, .px = planes[0], .py = planes[1],
+                  .pz = planes[2], .nx = planes[3], .ny = planes[4], .nz = planes[5], .vx = planes[6],
+                  .vy = planes[7], .vz = planes[8], .u = planes[9], .v = planes[10]};
   float span[N][3], alone[3];
   shade_toon_span(&row, &f.objects[0], 0, N, span[0], 3);
   int same = 0, highlit = 0, edged = 0;
