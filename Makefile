@@ -53,7 +53,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
 
 .PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
-        bench-eval bench-solve bench-tiles gallery clean help example install check-cp
+        bench-eval bench-solve bench-tiles bench-bigmesh gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -189,6 +189,13 @@ bench-tiles: PEER_PACKAGES := time python3
 bench-tiles: deps all
 	sh bench/tiles.sh $(BUILD)/sumi
 
+# Large real meshes (issue 24): Wuson and the duck subdivided to level 4,
+# the engine as it is, the bench torus; per-stage times, memory, 2 threads;
+# CALLGRIND=1 adds each stage's instruction count.
+bench-bigmesh: PEER_PACKAGES := time python3 assimp-testmodels valgrind
+bench-bigmesh: deps all
+	sh bench/bigmesh.sh $(BUILD)/sumi
+
 # The Slurm recipe (scripts/slurm/) on a one-node cluster this starts on
 # localhost: a tile array and its assemble job, and a frame array, against
 # single-process renders (tests/slurm.sh; under a minute once installed).
@@ -241,6 +248,7 @@ help:
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make bench-tiles a 7680x4320 frame whole and as 8 tile jobs (CPU, memory)"
+	@echo "make bench-bigmesh  level-4 Wuson, duck, engine, torus: per-stage times, memory"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/ and write its index.html"
