@@ -432,32 +432,82 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
 ** to bottom), not as running sums: a pixel's result then depends on its
 ** window alone, not on where the filtered rectangle begins, so a tile's
 ** canvas (a window of the frame, its ink elsewhere in it) gets the bits
-** the whole frame gets. */
+** the whole frame gets. Each sum starts from 0.0 and adds in double, in
+** that order, however the loops below are arranged: the loops run across
+** the outputs (SIMD lanes), each output's own additions in order. */
 
 /* Window sums along row src (w values) for outputs x0..x1-1 into dst:
-** each sums src over [x - r, x + r] clipped to the row. */
-static void row_sums(const float *src, int w, int x0, int x1, int r, float *restrict dst) {
-  for (int x = x0; x < x1; x++) {
+** each sums src over [x - r, x + r] clipped to the row; acc is scratch
+** for x1 - x0 doubles. */
+static void row_sums(const float *src, int w, int x0, int x1, int r, double *restrict acc,
+                     float *restrict dst) {
+  int i0 = x0 > r ? x0 : r, i1 = x1 < w - r ? x1 : w - r;   /* the windows wholly inside the row */
+  if (i1 < i0) i1 = i0;
+  for (int x = x0; x < x1; x++) {   /* the clipped ones */
+    if (x >= i0 && x < i1) { x = i1 - 1; continue; }
     int a = x - r > 0 ? x - r : 0, e = x + r < w - 1 ? x + r : w - 1;
-    double acc = 0;
-    for (int j = a; j <= e; j++) acc += src[j];
-    dst[x - x0] = (float)acc;
+    double s = 0;
+    for (int j = a; j <= e; j++) s += src[j];
+    dst[x - x0] = (float)s;
+  }
+  float *restrict d = dst + (i0 - x0);
+  const float *s = src + i0 - r;
+  int n = i1 - i0;
+  if (r == 2) {   /* the 5 x 5 box, the default */
+    for (int i = 0; i < n; i++) {
+      double v = 0.0 + s[i];
+      v += s[i + 1];
+      v += s[i + 2];
+      v += s[i + 3];
+      v += s[i + 4];
+      d[i] = (float)v;
+    }
+    return;
+  }
+  for (int i = 0; i < n; i++) acc[i] = 0.0 + s[i];
+  for (int j = 1; j <= 2 * r; j++)
+    for (int i = 0; i < n; i++) acc[i] += s[i + j];
+  for (int i = 0; i < n; i++) d[i] = (float)acc[i];
+}
+
+/* Column sums of the n rows rows[0..n-1] (m values each), top down, into acc. */
+static void column_sums(const float *const *rows, int n, size_t m, double *restrict acc) {
+  if (n == 5) {
+    const float *r0 = rows[0], *r1 = rows[1], *r2 = rows[2], *r3 = rows[3], *r4 = rows[4];
+    for (size_t i = 0; i < m; i++) {
+      double v = 0.0 + r0[i];
+      v += r1[i];
+      v += r2[i];
+      v += r3[i];
+      v += r4[i];
+      acc[i] = v;
+    }
+    return;
+  }
+  for (size_t i = 0; i < m; i++) acc[i] = 0.0 + rows[0][i];
+  for (int k = 1; k < n; k++) {
+    const float *row = rows[k];
+    for (size_t i = 0; i < m; i++) acc[i] += row[i];
   }
 }
 
 /* Horizontal sums of row y of every plane (and of the weights, as the
-** last, when weighted) into dst: nq rows of rw floats. */
+** last, when weighted) into dst: nq rows of rw floats. Only the columns
+** the windows read, [rx0 - r, rx1 + r), are masked. */
 static void hsum_row(float **planes, int nplanes, const uint8_t *weight, int w, int y, int rx0, int rx1, int r,
-                     float *masked, float *dst) {
-  int rw = rx1 - rx0;
+                     float *masked, double *acc, float *dst) {
+  int rw = rx1 - rx0, m0 = rx0 - r > 0 ? rx0 - r : 0, m1 = rx1 + r < w ? rx1 + r : w;
   const uint8_t *wt = weight ? weight + (size_t)y * w : NULL;
   for (int k = 0; k < nplanes + (weight != NULL); k++) {
     const float *src = k < nplanes ? planes[k] + (size_t)y * w : NULL;
     if (wt) {   /* the weighted pixels only; the last plane sums the weights */
-      for (int x = 0; x < w; x++) masked[x] = wt[x] ? (src ? src[x] : 1) : 0;
+      if (src)
+        for (int x = m0; x < m1; x++) masked[x] = wt[x] ? src[x] : 0;
+      else
+        for (int x = m0; x < m1; x++) masked[x] = wt[x] ? 1 : 0;
       src = masked;
     }
-    row_sums(src, w, rx0, rx1, r, dst + (size_t)k * rw);
+    row_sums(src, w, rx0, rx1, r, acc, dst + (size_t)k * rw);
   }
 }
 
@@ -467,41 +517,46 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
   if (r <= 0 || nplanes <= 0 || rx0 >= rx1 || ry0 >= ry1) return;
   int hy0 = ry0 - r > 0 ? ry0 - r : 0, hy1 = ry1 + r < h ? ry1 + r : h;   /* rows the windows read */
   int rw = rx1 - rx0, nq = nplanes + (weight != NULL), ring = side + 1;
+  size_t m = (size_t)nq * rw;
   /* the horizontal sums of the last side + 1 rows: a row is read by the
   ** boxes of the side rows around it, and overwritten only after that */
-  float *hs = xmalloc((size_t)ring * nq * rw * sizeof *hs + 1);
+  float *hs = xmalloc((size_t)ring * m * sizeof *hs + 1);
   float *masked = xmalloc((size_t)w * sizeof *masked + 1);          /* a row times its weight */
-  double *acc = xcalloc((size_t)nq * rw + 1, sizeof *acc);           /* the column sums */
+  double *acc = xmalloc(m * sizeof *acc + 1);                       /* the column sums */
+  double *racc = xmalloc((size_t)rw * sizeof *racc + 1);            /* a row's window sums */
   float *cols = xmalloc((size_t)rw * sizeof *cols + 1), *inv = xmalloc((size_t)rw * sizeof *inv + 1);
+  const float **rows = xmalloc((size_t)side * sizeof *rows);
   for (int x = 0; x < rw; x++) {   /* a box's columns inside the image */
     int cx = rx0 + x;
     cols[x] = (float)((cx + r < w ? cx + r : w - 1) - (cx - r > 0 ? cx - r : 0) + 1);
   }
+  float inv_rows = -1;   /* the rows inv was worked out for (unweighted) */
   int next = hy0;   /* the next row whose horizontal sums go into the ring */
   for (int y = ry0; y < ry1; y++) {
     for (; next <= y + r && next < hy1; next++)   /* rows in: their sums from the planes as they were */
-      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, hs + (size_t)((next - hy0) % ring) * nq * rw);
+      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, racc,
+               hs + (size_t)((next - hy0) % ring) * m);
     int a = y - r > hy0 ? y - r : hy0, e = y + r < hy1 - 1 ? y + r : hy1 - 1;
-    memset(acc, 0, (size_t)nq * rw * sizeof *acc);   /* the column sums of the box's rows, top down */
-    for (int yy = a; yy <= e; yy++) {
-      const float *slot = hs + (size_t)((yy - hy0) % ring) * nq * rw;
-      for (size_t i = 0; i < (size_t)nq * rw; i++) acc[i] += slot[i];
-    }
-    float rows = (float)((y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1);
+    for (int yy = a; yy <= e; yy++) rows[yy - a] = hs + (size_t)((yy - hy0) % ring) * m;
+    column_sums(rows, e - a + 1, m, acc);   /* the column sums of the box's rows, top down */
+    float nrows = (float)((y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1);
     if (weight) {   /* the box's pixels: weighted ones */
       const double *cnt = acc + (size_t)nplanes * rw;
       for (int x = 0; x < rw; x++) inv[x] = cnt[x] > 0.5 ? (float)(1 / cnt[x]) : 0;
-    } else {        /* those inside the image */
-      for (int x = 0; x < rw; x++) inv[x] = 1 / (rows * cols[x]);
+    } else if (nrows != inv_rows) {   /* those inside the image */
+      for (int x = 0; x < rw; x++) inv[x] = 1 / (nrows * cols[x]);
+      inv_rows = nrows;
     }
     for (int k = 0; k < nplanes; k++) {   /* row y's own sums are in the ring: it may change now */
-      float *dst = planes[k] + (size_t)y * w + rx0;
+      float *restrict dst = planes[k] + (size_t)y * w + rx0;
       const double *sum = acc + (size_t)k * rw;
       for (int x = 0; x < rw; x++) dst[x] = (float)sum[x] * inv[x];
     }
   }
+  free(rows);
   free(cols);
   free(inv);
+  free(racc);
   free(acc);
   free(masked);
   free(hs);

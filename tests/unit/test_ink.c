@@ -374,6 +374,74 @@ TEST(box_filter_five) {
   free(a);
 }
 
+/* The box filter as its definition reads, one pixel at a time from a copy
+** of the planes: each window's row sums in double, left to right, each
+** rounded to float, then the box's rows of those summed top down, over
+** the weighted (or the image's) pixels. */
+static void box_reference(float **planes, int np, const uint8_t *wt, int w, int h, int side, int x0, int y0,
+                          int x1, int y1) {
+  int r = side / 2;
+  size_t n = (size_t)w * h;
+  float *copy = malloc((size_t)np * n * sizeof *copy);
+  for (int k = 0; k < np; k++) memcpy(copy + k * n, planes[k], n * sizeof *copy);
+  for (int y = y0; y < y1; y++)
+    for (int x = x0; x < x1; x++) {
+      double sum[4] = {0, 0, 0, 0}, cnt = 0;
+      for (int yy = y - r; yy <= y + r; yy++) {
+        if (yy < 0 || yy >= h) continue;
+        double row[4] = {0, 0, 0, 0}, rc = 0;
+        for (int xx = x - r; xx <= x + r; xx++) {
+          if (xx < 0 || xx >= w) continue;
+          size_t p = (size_t)yy * w + xx;
+          int on = wt ? wt[p] != 0 : 1;
+          for (int k = 0; k < np; k++) row[k] += on ? copy[k * n + p] : 0;
+          rc += on;
+        }
+        for (int k = 0; k < np; k++) sum[k] += (float)row[k];
+        cnt += (float)rc;
+      }
+      int rows = (y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1;
+      int cols = (x + r < w ? x + r : w - 1) - (x - r > 0 ? x - r : 0) + 1;
+      float inv = wt ? (cnt > 0.5 ? (float)(1 / cnt) : 0) : 1 / ((float)rows * (float)cols);
+      for (int k = 0; k < np; k++) planes[k][(size_t)y * w + x] = (float)sum[k] * inv;
+    }
+  free(copy);
+}
+
+/* The filter gives the reference's bits exactly, for every side, with and
+** without weights, over the whole image and over rectangles of it, on
+** random values (zeros, small and large ones, a negative zero). */
+TEST(box_filter_bits_of_definition) {
+  int w = 37, h = 29;
+  size_t n = (size_t)w * h;
+  Rng g;
+  rng_seed_key(&g, 7, 1, 2);
+  for (int trial = 0; trial < 24; trial++) {
+    int side = 3 + 2 * (trial % 4), np = trial % 3 == 2 ? 4 : 1, weighted = trial % 2;
+    float *a[4], *b[4];
+    uint8_t *wt = malloc(n);
+    for (int k = 0; k < np; k++) {
+      a[k] = malloc(n * sizeof *a[k]);
+      b[k] = malloc(n * sizeof *b[k]);
+      for (size_t p = 0; p < n; p++) {
+        double u = rng_uniform(&g);
+        a[k][p] = u < 0.3 ? 0 : u < 0.35 ? -0.0f : (float)(255 * rng_uniform(&g) * pow(10, -6 * rng_uniform(&g)));
+        b[k][p] = a[k][p];
+      }
+    }
+    for (size_t p = 0; p < n; p++) wt[p] = rng_uniform(&g) < 0.8;
+    int x0 = trial < 8 ? 0 : 3 + trial % 5, y0 = trial < 8 ? 0 : 2 + trial % 7;
+    int x1 = trial < 8 ? w : w - 1 - trial % 6, y1 = trial < 8 ? h : h - trial % 4;
+    ink_box_filter_rect(a, np, weighted ? wt : NULL, w, h, side, x0, y0, x1, y1);
+    box_reference(b, np, weighted ? wt : NULL, w, h, side, x0, y0, x1, y1);
+    int same = 1;
+    for (int k = 0; k < np; k++) same &= memcmp(a[k], b[k], n * sizeof *a[k]) == 0;
+    CHECK(same);
+    for (int k = 0; k < np; k++) free(a[k]), free(b[k]);
+    free(wt);
+  }
+}
+
 /* Box filter last (ch. 5.2): filtering before the diffusion mixes the
 ** levels at their borders, so rule 3 finds other differences there; the
 ** two orders give measurably different images. */
@@ -628,6 +696,7 @@ int main(void) {
   RUN(one_pass_one_pixel);
   RUN(covered_pixels_block);
   RUN(box_filter_five);
+  RUN(box_filter_bits_of_definition);
   RUN(box_filter_order_matters);
   RUN(frame_same_at_any_thread_count);
   RUN(frame_quantised_stage_shows_tones);
