@@ -79,6 +79,13 @@ int canvas_wanted(const Scene *s, const RenderFrame *f) {
   return 0;
 }
 
+int canvas_reads_layer(const Scene *s, const RenderFrame *f) {
+  if (s->norigami > 0) return 1;
+  for (int i = 0; i < f->nobjects; i++)
+    if (!f->objects[i].style->ink) return 1;   /* others drew */
+  return 0;
+}
+
 /* ---- the ink of each pixel -------------------------------------------------------- */
 
 /* Where the canvas holds ink, and whether other objects cover some of it. */
@@ -456,9 +463,8 @@ int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image *
   InkCanvas c;
   InkArea area = {0, 0, 0, 0, 0};
   InkColour col = {{NULL, NULL, NULL}};
-  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, s->norigami > 0, {NULL, NULL, NULL}, f->win.x0,
-              f->win.y0};
-  for (int i = 0; i < f->nobjects; i++) pt.read_layer |= !f->objects[i].style->ink;   /* others drew */
+  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, canvas_reads_layer(s, f), {NULL, NULL, NULL},
+              f->win.x0, f->win.y0};
   if (set.n > 0) {
     memcpy(pt.ink_color, set.styles[0].color, sizeof pt.ink_color);
     ink_canvas_alloc(&c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, set.styles, set.n);   /* the build

@@ -29,9 +29,15 @@ int canvas_margin(const RenderFrame *f);
 ** background, or an object in shade ink? */
 int canvas_wanted(const Scene *s, const RenderFrame *f);
 
+/* Does the canvas read the tile pass's image: do origami sheets or
+** objects in other styles than ink show in it? When not, the pass need
+** only draw the G-buffer (its image's pixels are never read). */
+int canvas_reads_layer(const Scene *s, const RenderFrame *f);
+
 /* Paint the frame: *img is the tile pass's image (RGBA, background
 ** transparent; float, or 8-bit codes when out8) with its G-buffer g, both
-** covering the frame's window (f->win); it is
+** covering the frame's window (f->win; its pixels are read only when
+** canvas_reads_layer says so); it is
 ** replaced by the painted image (RGB when the paper is opaque, else RGBA;
 ** 8-bit codes when out8 and opaque, else float). Returns 1, or 0 after a diagnostic (a sheet image
 ** that cannot be read); *img is kept then. */

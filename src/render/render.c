@@ -1136,6 +1136,11 @@ static void *tile_worker(void *arg) {
     if (first_back < b->start[bin + 1])   /* behind all the front faces drawn: skipped */
       raster_items(b, first_back, b->start[bin + 1], tile_far(rt), 1, rt);
     double t1 = stats_now();
+    if (!job->out) {   /* the G-buffer alone: nothing to shade */
+      w->raster_s += t1 - t0;
+      tile_progress(job);
+      continue;
+    }
     if (b->apron && job->full) copy_tile(job->full, job->f, &tl);
     if (b->apron && !empty) {
       shade_tile_aa(job, &tl, w);
@@ -1229,7 +1234,10 @@ struct RenderPass {
   int done, total;             /* with progress: tiles shaded by earlier runs; all of them */
 };
 
-RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o) {
+/* The pass of f with antialiasing's apron (antialias: f->antialias), or
+** none (0: a pass drawing the G-buffer alone, whose samples do not depend
+** on the tiles that draw them). */
+static RenderPass *pass_begin(const RenderFrame *f, const RenderOptions *o, int antialias) {
   int N = f->samples, gw = f->width * N, gh = f->height * N;
   double t0 = stats_now();
   RenderPass *p = xcalloc(1, sizeof *p);
@@ -1238,7 +1246,7 @@ RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o) {
   p->progress = o->progress;
   Bins *b = &p->bins;
   b->side = RENDER_TILE * N;
-  b->apron = f->antialias;
+  b->apron = antialias;
   setup_triangles(f, gw, gh, p->nthreads, b);
   b->tiles_x = (gw + b->side - 1) / b->side;
   b->tiles_y = (gh + b->side - 1) / b->side;
@@ -1253,6 +1261,10 @@ RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o) {
   stats_record("setup", stats_now() - t0);
   stats_record_count("setup", "raster triangles", nset);
   return p;
+}
+
+RenderPass *render_pass_begin(const RenderFrame *f, const RenderOptions *o) {
+  return pass_begin(f, o, f->antialias);
 }
 
 void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Image *out, GBuffer **gbuf_out) {
@@ -1315,7 +1327,7 @@ void render_pass_end(RenderPass *p) {
 
 void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
                   GBuffer **gbuf_out) {
-  RenderPass *p = render_pass_begin(f, o);
+  RenderPass *p = pass_begin(f, o, out ? f->antialias : 0);
   render_pass_run(p, f->win.y0, f->win.y1, rows, out, gbuf_out);
   render_pass_end(p);
 }
@@ -1398,7 +1410,9 @@ int render_stages(const Scene *s, const RenderOptions *o, RenderFrame *f, int ca
   /* origami composes with meshes through the sample depths, and the canvas
   ** reads the ink objects' samples: both need the G-buffer */
   GBuffer *gbuf = NULL;
-  render_frame(f, o, rows, *out, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
+  /* a canvas over ink alone reads the pass's G-buffer, never its image */
+  Image *shaded = canvas && !canvas_reads_layer(s, f) ? NULL : *out;
+  render_frame(f, o, rows, shaded, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
   if (gbuf_out) *gbuf_out = gbuf;
   int ok = 1;
   if (s->norigami > 0) {

@@ -226,7 +226,9 @@ void render_frame_free(RenderFrame *f);
 ** RGBA when the background is not opaque). With rows (its begin already
 ** called), out's bands go to it as they are finished. When gbuf_out is
 ** not NULL, *gbuf_out receives the window's G-buffer (caller frees with
-** gbuf_destroy); otherwise each worker keeps only the tile it is drawing. */
+** gbuf_destroy); otherwise each worker keeps only the tile it is drawing.
+** With out NULL (and gbuf_out given) the pass draws the G-buffer alone and
+** shades nothing. */
 void render_frame(const RenderFrame *f, const RenderOptions *o, const RenderRows *rows, Image *out,
                   GBuffer **gbuf_out);
 
