@@ -133,28 +133,43 @@ static void paper_run(InkCanvas *c, int y, int x0, int x1) {
   memset(c->water + p, 0, n * sizeof *c->water);
 }
 
+/* Pixels p0..p1-1 of one ink object (style index si), all of triangle
+** face: their greys quantised. */
+static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g, int obj,
+                    int si, int face, size_t p0, size_t p1) {
+  const InkStyle *k = &set->styles[si];
+  const RenderObject *o = &f->objects[obj];
+  float v[3];
+  int plain = shade_ink_corners(f, o, face, v), gouraud = k->stage == INK_STAGE_GOURAUD;
+  for (size_t p = p0; p < p1; p++) {
+    float grey = plain ? shade_ink_lerp(v, g->bary[p]) : shade_ink_grey(f, o, face, g->bary[p]);
+    int label = ink_label(k, grey);
+    c->level[p] = (uint8_t)label;
+    c->style[p] = (uint16_t)si;
+    c->ink[p] = gouraud ? 255 * (1 - grey) : k->ink[label];
+    c->water[p] = label > 0 ? k->water : 0;
+  }
+}
+
 /* One sample a pixel: the sample is the pixel. Every pixel is written:
-** rows of paper at once, then the pixels objects show in. */
+** rows of paper at once, then the pixels objects show in, a run of one
+** triangle at a time. */
 static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
                          InkArea *a) {
   for (int y = 0; y < c->height; y++) {
-    const int32_t *obj = g->object + (size_t)y * g->width;
+    const int32_t *obj = g->object + (size_t)y * g->width, *face = g->face + (size_t)y * g->width;
+    size_t row = (size_t)y * c->width;
     paper_run(c, y, 0, c->width);
     int first = -1, last = -1;   /* the row's ink pixels */
-    for (int x = 0; x < c->width; x++) {
+    for (int x = 0, e; x < c->width; x = e) {
+      e = x + 1;
       if (obj[x] < 0) continue;
-      size_t p = (size_t)y * c->width + x;
       int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
-      if (si < 0) { put_off(c, p, a); continue; }
-      const InkStyle *k = &set->styles[si];
-      float grey = shade_ink_grey(f, &f->objects[obj[x]], g->face[p], g->bary[p]);
-      int label = ink_label(k, grey);
-      c->level[p] = (uint8_t)label;
-      c->style[p] = (uint16_t)si;
-      c->ink[p] = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
-      c->water[p] = label > 0 ? k->water : 0;
+      if (si < 0) { put_off(c, row + x, a); continue; }
+      while (e < c->width && obj[e] == obj[x] && face[e] == face[x]) e++;
+      ink_run(c, set, f, g, obj[x], si, face[x], row + x, row + e);
       if (first < 0) first = x;
-      last = x;
+      last = e - 1;
     }
     if (first < 0) continue;
     if (first < a->x0) a->x0 = first;

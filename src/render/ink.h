@@ -76,9 +76,23 @@ void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o);
 ** the sum clamped to [0, 1]. */
 float shade_ink_grey(const RenderFrame *f, const RenderObject *o, int face, const float b[2]);
 
+/* The greys of face's corners when o's grey there is their interpolation
+** alone (no light casts shadows on it): into v, returning 1; else 0, and
+** shade_ink_grey is the way. */
+int shade_ink_corners(const RenderFrame *f, const RenderObject *o, int face, float v[3]);
+
+/* The grey at barycentrics b from corner greys v: shade_ink_grey's own
+** interpolation, to the bit. */
+static inline float shade_ink_lerp(const float v[3], const float b[2]) {
+  float b1 = b[0], b2 = b[1], b0 = 1 - b1 - b2;
+  return b0 * v[0] + b1 * v[1] + b2 * v[2];
+}
+
 /* The range (0 darkest .. ntones - 1) grey value v falls in: how many
 ** thresholds it reaches (a NaN reaches all: the lightest, no ink). */
 static inline int ink_range(const InkStyle *k, float v) {
+  if (k->ntones == 4)   /* the thesis's four tones */
+    return !(v < k->levels[0]) + !(v < k->levels[1]) + !(v < k->levels[2]);
   int i = 0;
   for (int t = 0; t < k->ntones - 1; t++) i += !(v < k->levels[t]);
   return i;

@@ -159,6 +159,18 @@ void shade_ink_vertex_values(const RenderFrame *f, RenderObject *o) {
   }
 }
 
+int shade_ink_corners(const RenderFrame *f, const RenderObject *o, int face, float v[3]) {
+  if (ink_layers(f, o, o->style->ink) != 1) return 0;
+  const int *t = o->mesh->tri[face];
+  if (o->wcnrm) {   /* a grey per corner */
+    const float *c = o->vink + 3 * (size_t)face;
+    v[0] = c[0]; v[1] = c[1]; v[2] = c[2];
+  } else {
+    v[0] = o->vink[t[0]]; v[1] = o->vink[t[1]]; v[2] = o->vink[t[2]];
+  }
+  return 1;
+}
+
 float shade_ink_grey(const RenderFrame *f, const RenderObject *o, int face, const float b[2]) {
   float b1 = b[0], b2 = b[1], b0 = 1 - b1 - b2;
   const int *t = o->mesh->tri[face];
