@@ -333,34 +333,58 @@ static inline int density(float ink, float a) {
   return v < 256 ? (v > 0 ? (int)v : 0) : 256;
 }
 
-/* n pixels of one ink (quantities I) on paper codes P (absorbency A, or
-** NULL for 1) into codes o, through the mixing tables m0, m1, m2. */
+/* The densities of n pixels of ink I on paper of absorbency A (NULL: 1)
+** into D: a loop of lanes, apart from the lookups that use them. */
+static void densities(const float *restrict I, const float *restrict A, int *restrict D, int n) {
+  if (A)
+    for (int i = 0; i < n; i++) D[i] = density(I[i], A[i]);
+  else
+    for (int i = 0; i < n; i++) D[i] = density(I[i], 1);
+}
+
+/* n pixels of one ink (densities D) on paper codes P into codes o,
+** through the mixing tables m0, m1, m2; no ink (density 0) leaves the
+** paper's codes. */
 static void mix_run(const uint8_t *restrict m0, const uint8_t *restrict m1, const uint8_t *restrict m2,
-                    const float *restrict I, const float *restrict A, const uint8_t *restrict P,
-                    uint8_t *restrict o, int n) {
+                    const int *restrict D, const uint8_t *restrict P, uint8_t *restrict o, int n) {
   for (int i = 0; i < n; i++, o += 3, P += 3) {
-    int d = density(I[i], A ? A[i] : 1);
+    int d = D[i];
+    if (d == 0) { o[0] = P[0]; o[1] = P[1]; o[2] = P[2]; continue; }
     o[0] = m0[P[0] * 257 + d];
     o[1] = m1[P[1] * 257 + d];
     o[2] = m2[P[2] * 257 + d];
   }
 }
 
-/* The same on paper of one colour (its tables' rows t0, t1, t2). */
-static void mix_flat(const uint8_t *restrict t0, const uint8_t *restrict t1, const uint8_t *restrict t2,
-                     const float *restrict I, uint8_t *restrict o, int n) {
+/* The same on paper of one colour: its three tables' rows packed, a
+** pixel's codes in the low three bytes of t[d]. */
+static void mix_flat(const uint32_t *restrict t, const int *restrict D, uint8_t *restrict o, int n) {
   for (int i = 0; i < n; i++, o += 3) {
-    int d = density(I[i], 1);
-    o[0] = t0[d];
-    o[1] = t1[d];
-    o[2] = t2[d];
+    uint32_t v = t[D[i]];
+    o[0] = (uint8_t)v;
+    o[1] = (uint8_t)(v >> 8);
+    o[2] = (uint8_t)(v >> 16);
   }
 }
 
 /* Row y into an 8-bit image. Where only ink and paper show, the display
 ** mix goes straight to its codes, a run of texels at a time; where the
 ** layer shows, the general pixel, encoded. */
-static void composite_row8(const Paint *pt, int y, uint8_t *out) {
+/* One ink's mixes with paper codes P, packed as mix_flat reads them, into
+** f (kept while the codes stay the same: flat paper has one). */
+typedef struct FlatMix { uint32_t t[257]; int code; } FlatMix;
+
+static const uint32_t *flat_mix(const Paint *pt, const uint8_t *P, FlatMix *f) {
+  int code = P[0] | P[1] << 8 | P[2] << 16;
+  if (f->code == code) return f->t;
+  for (int d = 0; d <= 256; d++)
+    f->t[d] = pt->mix[0][P[0] * 257 + d] | (uint32_t)pt->mix[1][P[1] * 257 + d] << 8 |
+              (uint32_t)pt->mix[2][P[2] * 257 + d] << 16;
+  f->code = code;
+  return f->t;
+}
+
+static void composite_row8(const Paint *pt, int y, uint8_t *out, int *D, FlatMix *fm) {
   const Paper *pp = pt->pp;
   int w = pt->layer->width, tw = pp->width, ox = pt->ox;
   size_t row = (size_t)y * w, row_t = paper_texel(pp, 0, y + pt->oy);   /* the frame's rows and columns */
@@ -373,11 +397,13 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out) {
     if (!ink) { memcpy(o, P, 3 * (size_t)n); continue; }
     const float *I = ink + x0;
     if (pt->mix[0] && !A && pp->height == 1) {   /* one ink on one colour: a table each channel */
-      mix_flat(pt->mix[0] + P[0] * 257, pt->mix[1] + P[1] * 257, pt->mix[2] + P[2] * 257, I, o, n);
+      densities(I, NULL, D, n);
+      mix_flat(flat_mix(pt, P, fm), D, o, n);
       continue;
     }
     if (pt->mix[0]) {   /* one ink: its mixes with every paper code, from the tables */
-      mix_run(pt->mix[0], pt->mix[1], pt->mix[2], I, A, P, o, n);
+      densities(I, A, D, n);
+      mix_run(pt->mix[0], pt->mix[1], pt->mix[2], D, P, o, n);
       continue;
     }
     for (int i = 0; i < n; i++, o += 3, P += 3) {   /* inks of several colours */
@@ -407,7 +433,12 @@ static Image *composite(const Paint *pt, int out8) {
   int w = layer->width, h = layer->height, nc = pt->pp->alpha >= 1 ? 3 : 4;
   if (out8 && nc == 3) {
     Image *out = image_create8_unset(w, h, 3);
-    for (int y = 0; y < h; y++) composite_row8(pt, y, out->data8 + (size_t)y * w * 3);
+    int *D = xmalloc((size_t)w * sizeof *D);   /* a row's densities */
+    FlatMix *fm = xmalloc(sizeof *fm);
+    fm->code = -1;   /* none yet */
+    for (int y = 0; y < h; y++) composite_row8(pt, y, out->data8 + (size_t)y * w * 3, D, fm);
+    free(fm);
+    free(D);
     return out;
   }
   Image *out = image_create(w, h, nc);

@@ -163,22 +163,29 @@ static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Off
   o->water = water > c->water[p] ? water : c->water[p];         /* nobody loses water */
 }
 
-/* The offer pixel (x, y) takes in pass `pass`: from its darkest neighbour
-** that may give; 0 if none may. */
-static int best_offer(const InkCanvas *c, int x, int y, int pass, Offer *best) {
+/* The giver pixel (x, y) takes from in pass `pass`, into *giver: its
+** darkest neighbour that may give; 0 if none may. */
+static int best_giver(const InkCanvas *c, int x, int y, int pass, size_t *giver) {
   int w = c->width;
   size_t p = (size_t)y * w + x;
   if (c->level[p] == INK_OFF || !diffuses(c, c->style[p])) return 0;
-  size_t nb[4], giver = 0;
+  size_t nb[4];
   int n = 0, found = 0;
   if (x > 0) nb[n++] = p - 1;
   if (x + 1 < w) nb[n++] = p + 1;
   if (y > 0) nb[n++] = p - (size_t)w;
   if (y + 1 < c->height) nb[n++] = p + (size_t)w;
   for (int i = 0; i < n; i++)
-    if (may_give(c, nb[i], p, pass) && (!found || darker(c, nb[i], giver))) { giver = nb[i]; found = 1; }
-  if (found) offer_from(c, giver, p, x, y, best);
+    if (may_give(c, nb[i], p, pass) && (!found || darker(c, nb[i], *giver))) { *giver = nb[i]; found = 1; }
   return found;
+}
+
+/* The offer pixel (x, y) takes in pass `pass`; 0 if none. */
+static int best_offer(const InkCanvas *c, int x, int y, int pass, Offer *best) {
+  size_t giver;
+  if (!best_giver(c, x, y, pass, &giver)) return 0;
+  offer_from(c, giver, (size_t)y * c->width + x, x, y, best);
+  return 1;
 }
 
 typedef struct Updates { Offer *v; int n, cap; } Updates;
@@ -284,11 +291,13 @@ static void receivers_put(Receivers *t, uint32_t h, uint32_t p, uint32_t at) {
   t->used[t->nused++] = h;
 }
 
-static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, int x, int y, Updates *u) {
+/* The offer itself is worked out once the pass's givers are known
+** (offers_of), from the state before the pass, as it would be now. */
+static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, Updates *u) {
   uint32_t h = receivers_slot(t, (uint32_t)p);
   if (t->key[h] == p) {
     Offer *o = &u->v[t->at[h]];
-    if (darker(c, q, o->from)) offer_from(c, q, p, x, y, o);
+    if (darker(c, q, o->from)) o->from = (uint32_t)q;
     return;
   }
   if ((size_t)u->n * 2 + 2 > (size_t)t->mask) {   /* fuller than half: twice the size, the offers again */
@@ -300,8 +309,18 @@ static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, int x, in
   }
   receivers_put(t, h, (uint32_t)p, (uint32_t)u->n);
   Offer o;
-  offer_from(c, q, p, x, y, &o);
+  o.pixel = (uint32_t)p;
+  o.from = (uint32_t)q;
   updates_add(u, &o);
+}
+
+/* The offers of the receivers in u, each from its giver. */
+static void offers_of(const InkCanvas *c, Updates *u) {
+  uint32_t w = (uint32_t)c->width;
+  for (int i = 0; i < u->n; i++) {
+    Offer *o = &u->v[i];
+    offer_from(c, o->from, o->pixel, (int)(o->pixel % w), (int)(o->pixel / w), o);
+  }
 }
 
 /* A later pass. A pixel's best offer can change only when it or a
@@ -316,8 +335,8 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
   for (int i = 0; i < last->n; i++) {
     uint32_t p = last->v[i].pixel;
     int x = (int)(p % (uint32_t)w), y = (int)(p / (uint32_t)w);
-    Offer o;
-    if (t->key[receivers_slot(t, p)] != p && best_offer(c, x, y, pass, &o)) take(c, t, o.from, p, x, y, u);
+    size_t q;
+    if (t->key[receivers_slot(t, p)] != p && best_giver(c, x, y, pass, &q)) take(c, t, q, p, u);
   }
   for (int i = 0; i < now->n; i++) {
     uint32_t q = now->v[i].pixel;
@@ -327,10 +346,10 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
       int x = x0 + (d == 0 ? -1 : d == 1), y = y0 + (d == 2 ? -1 : d == 3);
       if (x < 0 || y < 0 || x >= w || y >= h) continue;
       size_t p = (size_t)y * w + x;
-      if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass))
-        take(c, t, q, p, x, y, u);
+      if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass)) take(c, t, q, p, u);
     }
   }
+  offers_of(c, u);
 }
 
 /* The most passes any style of the canvas allows. */
