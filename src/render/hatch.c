@@ -8,6 +8,8 @@
 #include <math.h>
 #include <pthread.h>
 
+#include "../base/lanes.h"
+
 /* ---- lines ---------------------------------------------------------------- */
 
 /* F(f, t) of eq. 8 on one period f in [0, 1): (1 + t) f, less t past 1/2. */
@@ -28,6 +30,44 @@ float hatch_value(float x, float t) {
   float f = x - floorf(x);
   float q = blend_cdf(blend_sawtooth(f, t), t);
   return q < 1 ? q : 0.99999994f;
+}
+
+/* The bright length of [0, X) (hatch_bright_i) in lanes. */
+static inline F4 bright_i4(F4 X, F4 y, F4 lo, F4 hi) {
+  F4 k = f4_floor(X), f = f4_sub(X, k), g = f4_min(f, hi);
+  /* g > 1/2 ? g - 1/2 : 0 is max(g - 1/2, 0): g - 1/2 is exact there (g <= 1) */
+  return f4_add(f4_add(f4_mul(k, y), f4_min(f, lo)), f4_max(f4_sub(g, f4_set(0.5f)), f4_set(0)));
+}
+
+/* hatch_coverage_c in lanes, operation for operation (the same bits). */
+static inline F4 coverage4(F4 x, F4 fw, F4 t, F4 c, F4 y) {
+  F4 zero = f4_set(0), half = f4_set(0.5f), one = f4_set(1);
+  y = f4_min(f4_max(y, zero), one);
+  F4 a = f4_sub(half, f4_mul(half, t)), yc = f4_mul(y, f4_add(one, t));
+  F4 mid = f4_add(a, f4_mul(f4_sub(yc, a), half)), top = f4_sub(yc, t);
+  F4 z = f4_select(f4_lt(yc, a), yc, mid);
+  z = f4_select(f4_lt(yc, f4_add(a, f4_mul(f4_set(2), t))), z, top);
+  F4 lo = f4_min(f4_max(f4_mul(z, c), zero), half);
+  F4 hi = f4_min(f4_max(f4_mul(f4_add(z, t), c), half), one);
+  M4 in = m4_or(f4_le(x, lo), m4_and(f4_le(half, x), f4_le(x, hi)));
+  F4 h = f4_mul(half, fw);
+  M4 wide = f4_lt(f4_set(1e-6f), fw);
+  F4 box = f4_div(f4_sub(bright_i4(f4_add(x, h), y, lo, hi), bright_i4(f4_sub(x, h), y, lo, hi)),
+                  f4_select(wide, fw, one));
+  F4 r = f4_select(wide, box, f4_keep(in, one));
+  return f4_min(f4_max(r, zero), one);
+}
+
+void hatch_coverage_run(const float *x, const float *fw, const float *t, const float *c, const float *y,
+                        float lo, float inv, float *bright, int j0, int j1) {
+  F4 flo = f4_set(lo), finv = f4_set(inv);
+  int j = j0;
+  for (; j + 4 <= j1; j += 4) {
+    F4 yl = f4_mul(f4_sub(f4_load(y + j), flo), finv);
+    F4 r = coverage4(f4_load(x + j), f4_load(fw + j), f4_load(t + j), f4_load(c + j), yl);
+    f4_store(bright + j, f4_mul(f4_load(bright + j), r));
+  }
+  for (; j < j1; j++) bright[j] *= hatch_coverage_c(x[j], fw[j], t[j], c[j], (y[j] - lo) * inv);
 }
 
 /* ---- stipple dots ------------------------------------------------------------ */

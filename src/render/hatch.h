@@ -107,6 +107,12 @@ static inline float hatch_coverage_c(float x, float fw, float t, float c, float 
   return r < 1 ? r : 1;
 }
 
+/* bright[j] *= hatch_coverage_c(x[j], fw[j], t[j], c[j], (y[j] - lo) * inv)
+** for j in [j0, j1): four lanes at a time (the rest one by one), the
+** same bits. */
+void hatch_coverage_run(const float *x, const float *fw, const float *t, const float *c, const float *y,
+                        float lo, float inv, float *bright, int j0, int j1);
+
 static inline float hatch_coverage(float x, float fw, float t, float y) {
   return hatch_coverage_c(x, fw < 16 ? fw : 16, t, 1 / (1 + t), y);
 }

@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../base/lanes.h"
 #include "../base/mem.h"
 #include "../base/rng.h"
 #include "../lang/diag.h"
@@ -179,23 +180,41 @@ typedef struct Block {
   int n;                       /* samples */
   int n4;                      /* n rounded up to SIMD lanes: the side-by-side loops run to it
                                   over copies of the last sample, with no scalar tail */
-  float u[BLOCK], v[BLOCK], ux[BLOCK], uy[BLOCK], vx[BLOCK], vy[BLOCK];
+  float u[BLOCK + 4], v[BLOCK + 4], ux[BLOCK + 4], uy[BLOCK + 4], vx[BLOCK + 4], vy[BLOCK + 4];
+                               /* 4 spare: a run's last lane group writes past its end */
   float nv[BLOCK];
   float a[SCENE_MAX_LAYERS][2 * MAX_TAPS][BLOCK];
   int nq[SCENE_MAX_LAYERS];
+  unsigned filled;             /* bit i: layer i's a[i] and nq[i] are set (layer_fill) */
+  float inv_n;                 /* a sample's share of a pixel side */
 } Block;
 
 /* The coordinates of samples k0..k0+n-1 of r (object o) into b, a run of
 ** one triangle at a time (its constants held while the run's samples go
-** side by side). */
+** side by side, four lanes at a time). A run's last lane group reads past
+** the run: inside the block that is the block's next samples, but past
+** the block's end it may be past the row, so that group reads a padded
+** copy. */
 static void block_coords(Block *b, const ShadeRow *r, const RenderObject *o, const TexView *view,
                          int k0, int n) {
   for (int j = 0, e; j < n; j = e) {
     int face = r->face[k0 + j];
     for (e = j + 1; e < n && r->face[k0 + e] == face; e++) {}
-    int k = k0 + j;
-    texcoord_run(&o->texcoords[face], view, e - j, r->bary + k, r->px + k, r->py + k, r->pz + k,
-                 b->u + j, b->v + j, b->ux + j, b->uy + j, b->vx + j, b->vy + j);
+    int k = k0 + j, m = e - j;
+    const TexTriangle *tt = &o->texcoords[face];
+    int inside = j + ((m + 3) & ~3) <= n ? m : m & ~3;   /* samples whose lane groups stay in the block */
+    texcoord_run_lanes(tt, view, inside, r->bary + k, r->px + k, r->py + k, r->pz + k,
+                       b->u + j, b->v + j, b->ux + j, b->uy + j, b->vx + j, b->vy + j);
+    if (inside == m) continue;
+    float bary[4][2] = {{0}}, px[4] = {0}, py[4] = {0}, pz[4] = {0};
+    for (int i = 0; i < m - inside; i++) {
+      int q = k + inside + i;
+      bary[i][0] = r->bary[q][0]; bary[i][1] = r->bary[q][1];
+      px[i] = r->px[q]; py[i] = r->py[q]; pz[i] = r->pz[q];
+    }
+    int at = j + inside;
+    texcoord_run_lanes(tt, view, 4, bary, px, py, pz, b->u + at, b->v + at, b->ux + at, b->uy + at,
+                       b->vx + at, b->vy + at);
   }
   b->n4 = (n + 3) & ~3;
   for (int j = n; j < b->n4; j++) {   /* the padding lanes: copies of the last sample */
@@ -223,20 +242,29 @@ static inline float noise_shift(const Layer *L, const Block *b, int j, uint32_t 
 static void hatch_block(const Layer *L, Block *b, float inv_n, int filter, float a[2 * MAX_TAPS][BLOCK]) {
   float cs = L->cs, sn = L->sn, w = L->spacing, k = filter ? inv_n * FOOTPRINT : 0;
   float shift[BLOCK];   /* noise: a fraction of the spacing, in pixels */
-  if (L->noise > 0)
+  int noise = L->noise > 0;
+  if (noise)
     for (int j = 0; j < b->n4; j++) shift[j] = noise_shift(L, b, j, 0) * w;
-  for (int j = 0; j < b->n4; j++) {
-    float h = -sn * b->u[j] + cs * b->v[j];
-    float hx = -sn * b->ux[j] + cs * b->vx[j], hy = -sn * b->uy[j] + cs * b->vy[j];
-    float g = sqrtf(hx * hx + hy * hy), m, t;
-    hatch_scale(g, w, &m, &t);
-    float x = m * (L->noise > 0 ? h + shift[j] * g : h);
-    x = fabsf(x) < 0x1p23f ? x - hatch_floor(x) : 0;   /* past 2^23 a float has no fraction */
-    float fw = m * (fabsf(hx) + fabsf(hy)) * k;
-    a[0][j] = x;
-    a[1][j] = fw < 16 ? fw : 16;   /* 16 whole periods are the mean already */
-    a[2][j] = t;
-    a[3][j] = 1 / (1 + t);
+  /* four lanes at a time: the clamps are minima and maxima (base/lanes.h) */
+  F4 nsn = f4_set(-sn), fcs = f4_set(cs), fw = f4_set(w), fk = f4_set(k), one = f4_set(1);
+  for (int j = 0; j < b->n4; j += 4) {
+    F4 h = f4_add(f4_mul(nsn, f4_load(b->u + j)), f4_mul(fcs, f4_load(b->v + j)));
+    F4 hx = f4_add(f4_mul(nsn, f4_load(b->ux + j)), f4_mul(fcs, f4_load(b->vx + j)));
+    F4 hy = f4_add(f4_mul(nsn, f4_load(b->uy + j)), f4_mul(fcs, f4_load(b->vy + j)));
+    F4 g = f4_sqrt(f4_add(f4_mul(hx, hx), f4_mul(hy, hy)));
+    /* hatch_scale: d = 1 / (g w) kept in [2^-30, 2^30] (NaN: 2^-30), m =
+    ** 2^floor(log2 d), t = log2 of the mantissa by its cubic */
+    F4 d = f4_min(f4_max(f4_div(one, f4_mul(g, fw)), f4_set(0x1p-30f)), f4_set(0x1p30f));
+    F4 m = f4_and_bits(d, 0x7f800000u);
+    F4 f = f4_sub(f4_or_bits(f4_and_bits(d, 0x007fffffu), 0x3f800000u), one);
+    F4 t = f4_add(f, f4_mul(f4_mul(f, f4_sub(one, f)), f4_sub(f4_set(0.42086f), f4_mul(f4_set(0.15639f), f))));
+    F4 x = f4_mul(m, noise ? f4_add(h, f4_mul(f4_load(shift + j), g)) : h);
+    x = f4_keep(f4_lt(f4_abs(x), f4_set(0x1p23f)), f4_sub(x, f4_floor(x)));   /* past 2^23 a float has no fraction */
+    F4 fp = f4_mul(f4_mul(m, f4_add(f4_abs(hx), f4_abs(hy))), fk);
+    f4_store(a[0] + j, x);
+    f4_store(a[1] + j, f4_min(fp, f4_set(16)));   /* 16 whole periods are the mean already */
+    f4_store(a[2] + j, t);
+    f4_store(a[3] + j, f4_div(one, f4_add(one, t)));
   }
 }
 
@@ -321,15 +349,17 @@ static void image_block(const Layer *L, Block *b, float inv_n, int filter, float
   }
 }
 
-static void block_layers(const ThresholdStyle *ts, Block *b, float inv_n) {
-  for (int i = 0; i < ts->nlayers; i++) {
-    const Layer *L = &ts->layers[i];
-    b->nq[i] = 0;
-    switch (L->kind) {
-    case LAYER_HATCH: hatch_block(L, b, inv_n, ts->filter, b->a[i]); break;
-    case LAYER_STIPPLE: stipple_block(L, b, inv_n, ts->filter, b->a[i], &b->nq[i]); break;
-    case LAYER_IMAGE: image_block(L, b, inv_n, ts->filter, b->a[i], &b->nq[i]); break;
-    }
+/* Layer i's thresholds for the block, the first time a term reads them (a
+** layer whose range no sample of the block reaches is never filled). */
+static void layer_fill(const ThresholdStyle *ts, Block *b, int i) {
+  if (b->filled & (1u << i)) return;
+  b->filled |= 1u << i;
+  const Layer *L = &ts->layers[i];
+  b->nq[i] = 0;
+  switch (L->kind) {
+  case LAYER_HATCH: hatch_block(L, b, b->inv_n, ts->filter, b->a[i]); break;
+  case LAYER_STIPPLE: stipple_block(L, b, b->inv_n, ts->filter, b->a[i], &b->nq[i]); break;
+  case LAYER_IMAGE: image_block(L, b, b->inv_n, ts->filter, b->a[i], &b->nq[i]); break;
   }
 }
 
@@ -344,15 +374,6 @@ static float curve_at(const double *c, int n, float x) {
   int i = (int)p;
   if (i >= n - 1) return (float)c[n - 1];
   return (float)(c[i] + (p - (float)i) * (c[i + 1] - c[i]));
-}
-
-/* bright[j] times the lines' bright fraction at band positions y[j] in a
-** layer's range (lo, inv): apart, so its loop runs in SIMD lanes. */
-__attribute__((noinline)) static void hatch_bright(const float (*restrict a)[BLOCK],
-                                                   const float *restrict y, float lo, float inv,
-                                                   float *restrict bright, int j0, int j1) {
-  const float *x = a[0], *fw = a[1], *t = a[2], *c = a[3];
-  for (int j = j0; j < j1; j++) bright[j] *= hatch_coverage_c(x[j], fw[j], t[j], c[j], (y[j] - lo) * inv);
 }
 
 /* The same for a layer of nq weighted thresholds a[0..nq-1] (weights
@@ -381,7 +402,7 @@ static void taps_bright(const float (*a)[BLOCK], int nq, const float *span, cons
 /* Multiply bright[j0..j1) by layer i's bright fraction for the band
 ** positions y (P(t <= y') over the footprint, y' = y in the layer's range),
 ** unless every sample is above its range (no ink) or below it (solid). */
-static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const float *y,
+static void layer_bright(const ThresholdStyle *ts, Block *b, int i, const float *y,
                          float *bright, int j0, int j1) {
   const Layer *L = &ts->layers[i];
   float lo = L->lo, inv = L->inv_span;
@@ -396,8 +417,9 @@ static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const 
     for (int j = j0; j < j1; j++) bright[j] = 0;
     return;
   }
+  layer_fill(ts, b, i);
   const float(*a)[BLOCK] = b->a[i];
-  if (L->kind == LAYER_HATCH) hatch_bright(a, y, lo, inv, bright, j0, j1);
+  if (L->kind == LAYER_HATCH) hatch_coverage_run(a[0], a[1], a[2], a[3], y, lo, inv, bright, j0, j1);
   else taps_bright(a, b->nq[i], L->kind == LAYER_STIPPLE && b->nq[i] == 4 ? a[STIPPLE_SPAN] : NULL, y, lo,
                    inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
 }
@@ -405,7 +427,7 @@ static void layer_bright(const ThresholdStyle *ts, const Block *b, int i, const 
 /* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
 ** layers (eq. 4; the filtered bright fraction in place of T(frac(xn), t)),
 ** blended toward x by the strength, into T. */
-static void textured_step(const ThresholdStyle *ts, const Block *b, unsigned term, const float *x_in,
+static void textured_step(const ThresholdStyle *ts, Block *b, unsigned term, const float *x_in,
                           int n, float inv_n, float t_const, float *T, int j0, int j1) {
   float x[BLOCK], whole[BLOCK], frac[BLOCK], bright[BLOCK];
   for (int j = j0; j < j1; j++) {
@@ -457,7 +479,7 @@ static void ramp_mix(const Color *ramp, int n, float p, float rgb[3]) {
 /* Ramps for sample j of the block (sample s): the light-weighted diffuse
 ** (and specular) values, thresholded with as many bands as the ramp has
 ** steps, pick the colour. */
-static void ramp_sample(const ShadeSample *s, const RenderStyle *st, const Block *b, int j,
+static void ramp_sample(const ShadeSample *s, const RenderStyle *st, Block *b, int j,
                         float rgb[3]) {
   const ShadeToon *t = &st->src->shade.toon;
   const ThresholdStyle *ts = st->layers;
@@ -553,7 +575,7 @@ static void light_block(const RenderLight *lt, const ShadeRow *r, int k0, int n,
 
 /* The bands for the block's samples (samples k0.. of r): each light's
 ** textured steps on the diffuse and specular terms, summed per channel. */
-static void bands_block(const ShadeRow *r, const RenderObject *o, const Block *b, int k0, float *R,
+static void bands_block(const ShadeRow *r, const RenderObject *o, Block *b, int k0, float *R,
                         float *G, float *B) {
   const RenderStyle *st = o->style;
   const ThresholdStyle *ts = st->layers;
@@ -624,7 +646,8 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
   for (int k = k0; k < k1; k += BLOCK) {
     b.n = k1 - k < BLOCK ? k1 - k : BLOCK;
     block_coords(&b, r, o, view, k, b.n);
-    block_layers(st->layers, &b, inv_n);
+    b.filled = 0;
+    b.inv_n = inv_n;
     if (ramps) {   /* one sample at a time */
       for (int j = 0; j < b.n4; j++) {
         ShadeSample s;

@@ -24,6 +24,7 @@
 #ifndef render_texcoord_h
 #define render_texcoord_h
 
+#include "../base/lanes.h"
 #include "render.h"
 
 /* The camera as the derivatives need it: one output pixel's step along x
@@ -98,6 +99,50 @@ static inline void texcoord_run(const TexTriangle *tt, const TexView *v, int n, 
     uy[i] = depth * (tt->gy[0] - gq0 * ky);
     vx[i] = depth * (tt->gx[1] - gq1 * kx);
     vy[i] = depth * (tt->gy[1] - gq1 * ky);
+  }
+}
+
+/* texcoord_run four samples at a time, the same bits: for n rounded up to
+** a multiple of 4, so it reads bary and (px, py, pz) and writes the six
+** outputs up to 3 samples past n (the caller's to have them). */
+static inline void texcoord_run_lanes(const TexTriangle *tt, const TexView *v, int n, const float (*bary)[2],
+                                      const float *restrict px, const float *restrict py,
+                                      const float *restrict pz, float *restrict u, float *restrict w,
+                                      float *restrict ux, float *restrict uy, float *restrict vx,
+                                      float *restrict vy) {
+  float kx = tt->nx * tt->inv_qn, ky = tt->ny * tt->inv_qn;
+  F4 t00 = f4_set(tt->t0[0]), t01 = f4_set(tt->t0[1]), d10 = f4_set(tt->d1[0]), d11 = f4_set(tt->d1[1]);
+  F4 d20 = f4_set(tt->d2[0]), d21 = f4_set(tt->d2[1]);
+  if (v->ortho) {   /* depth 1, and G q is the constant G f */
+    F4 rx0 = f4_set(tt->gx[0] - tt->gq[0] * kx), ry0 = f4_set(tt->gy[0] - tt->gq[0] * ky);
+    F4 rx1 = f4_set(tt->gx[1] - tt->gq[1] * kx), ry1 = f4_set(tt->gy[1] - tt->gq[1] * ky);
+    for (int i = 0; i < n; i += 4) {
+      F4 b1, b2;
+      f4_load_pairs(bary[i], &b1, &b2);
+      f4_store(u + i, f4_add(f4_add(t00, f4_mul(b1, d10)), f4_mul(b2, d20)));
+      f4_store(w + i, f4_add(f4_add(t01, f4_mul(b1, d11)), f4_mul(b2, d21)));
+      f4_store(ux + i, rx0); f4_store(uy + i, ry0);
+      f4_store(vx + i, rx1); f4_store(vy + i, ry1);
+    }
+    return;
+  }
+  F4 gq0 = f4_set(tt->gq[0]), gq1 = f4_set(tt->gq[1]), fkx = f4_set(kx), fky = f4_set(ky);
+  F4 gx0 = f4_set(tt->gx[0]), gy0 = f4_set(tt->gy[0]), gx1 = f4_set(tt->gx[1]), gy1 = f4_set(tt->gy[1]);
+  F4 e0 = f4_set(v->eye[0]), e1 = f4_set(v->eye[1]), e2 = f4_set(v->eye[2]);
+  F4 f0 = f4_set(v->fwd[0]), f1 = f4_set(v->fwd[1]), f2 = f4_set(v->fwd[2]);
+  for (int i = 0; i < n; i += 4) {
+    F4 b1, b2;
+    f4_load_pairs(bary[i], &b1, &b2);
+    F4 du = f4_add(f4_mul(b1, d10), f4_mul(b2, d20)), dv = f4_add(f4_mul(b1, d11), f4_mul(b2, d21));
+    f4_store(u + i, f4_add(t00, du));
+    f4_store(w + i, f4_add(t01, dv));
+    F4 q0 = f4_add(gq0, du), q1 = f4_add(gq1, dv);   /* G q at p: affine over the triangle */
+    F4 depth = f4_add(f4_add(f4_mul(f4_sub(f4_load(px + i), e0), f0), f4_mul(f4_sub(f4_load(py + i), e1), f1)),
+                      f4_mul(f4_sub(f4_load(pz + i), e2), f2));
+    f4_store(ux + i, f4_mul(depth, f4_sub(gx0, f4_mul(q0, fkx))));
+    f4_store(uy + i, f4_mul(depth, f4_sub(gy0, f4_mul(q0, fky))));
+    f4_store(vx + i, f4_mul(depth, f4_sub(gx1, f4_mul(q1, fkx))));
+    f4_store(vy + i, f4_mul(depth, f4_sub(gy1, f4_mul(q1, fky))));
   }
 }
 

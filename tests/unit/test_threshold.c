@@ -84,6 +84,31 @@ TEST(hatch_coverage_is_box_filtered_threshold) {
   CHECK(hatch_coverage(0.2f, 0, 0, 0.3f) == 1.0f);
 }
 
+/* The lanes give the scalar coverage's bits: over footprints from none
+** to 16 periods, blends, shades in and past [0, 1] and NaN, and a count
+** that leaves a tail. */
+TEST(hatch_coverage_run_is_the_scalar_one) {
+  enum { N = 4099 };
+  static float x[N], fw[N], t[N], c[N], y[N], lanes[N], scalar[N];
+  unsigned h = 12345;
+  for (int i = 0; i < N; i++) {
+    float r[5];
+    for (int k = 0; k < 5; k++) {
+      h = h * 1664525u + 1013904223u;
+      r[k] = (float)(h >> 8) / 16777216.0f;
+    }
+    x[i] = r[0];
+    fw[i] = i % 7 == 0 ? 0 : i % 11 == 0 ? 16 : r[1] * r[1] * 4;
+    t[i] = r[2];
+    c[i] = 1 / (1 + t[i]);
+    y[i] = i % 13 == 0 ? NAN : r[3] * 1.4f - 0.2f;
+    lanes[i] = scalar[i] = 0.25f + r[4];
+  }
+  hatch_coverage_run(x, fw, t, c, y, 0.1f, 1.25f, lanes, 1, N);
+  for (int i = 1; i < N; i++) scalar[i] *= hatch_coverage_c(x[i], fw[i], t[i], c[i], (y[i] - 0.1f) * 1.25f);
+  CHECK(!memcmp(lanes, scalar, sizeof lanes));
+}
+
 TEST(hatch_scale_keeps_spacing) {
   /* the coarse lines lie d / m = w 2^frac(s) apart on screen: within
   ** [w, 2w); the blend t follows frac(s) closely and never turns back */
@@ -453,6 +478,7 @@ int main(void) {
   RUN(hatch_eq8_blend_alone_is_not_uniform);
   RUN(hatch_scales_meet);
   RUN(hatch_coverage_is_box_filtered_threshold);
+  RUN(hatch_coverage_run_is_the_scalar_one);
   RUN(hatch_scale_keeps_spacing);
   RUN(stipple_uniform_at_every_scale);
   RUN(stipple_dots_ink_centres_first);
