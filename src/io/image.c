@@ -836,8 +836,10 @@ int image_write_ids_tiff(const char *path, int w, int h, const int32_t *ids, cha
 static void too_large(const char *path, const SumiOiioPixels *px, char *err, size_t errlen) {
   set_err(err, errlen,
           "cannot read '%s': image too large: %dx%d with %d channels (limits: %lld pixels, "
-          "IMAGE_READ_MAX_PIXELS; %d channels, IMAGE_MAX_CHANNELS)", path, px->width,
-          px->height, px->channels, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS);
+          "IMAGE_READ_MAX_PIXELS; %d on a side, IMAGE_READ_MAX_SIDE; %d channels, "
+          "IMAGE_MAX_CHANNELS; %lld values, IMAGE_READ_MAX_VALUES)", path, px->width,
+          px->height, px->channels, IMAGE_READ_MAX_PIXELS, IMAGE_READ_MAX_SIDE,
+          IMAGE_MAX_CHANNELS, IMAGE_READ_MAX_VALUES);
 }
 
 /* A PNG through libpng, as the bridge would hand it over. */
@@ -872,8 +874,9 @@ static int read_pixels(const char *path, int want, SumiOiioPixels *px, char *err
     set_err(err, errlen, "cannot read '%s': %s", path, why);
     return 0;
   }
-  int r = bridge->read(path, want, IMAGE_READ_MAX_PIXELS, IMAGE_MAX_CHANNELS, px, why,
-                       sizeof why);
+  static const SumiOiioLimits limits = { IMAGE_READ_MAX_PIXELS, IMAGE_READ_MAX_SIDE,
+                                         IMAGE_MAX_CHANNELS, IMAGE_READ_MAX_VALUES };
+  int r = bridge->read(path, want, &limits, px, why, sizeof why);
   if (r == SUMI_OIIO_OK) return 1;
   if (r == SUMI_OIIO_TOO_LARGE) too_large(path, px, err, errlen);
   else

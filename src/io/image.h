@@ -35,9 +35,13 @@
 /* Channels an image may carry: colour images use 1-4; AOV EXRs carry a few
 ** more (depth, normal, uv, ids). Bounds a file's header before allocation. */
 #define IMAGE_MAX_CHANNELS 16
-/* Largest image image_read accepts: 8192 x 8192, so a 4-channel float copy
-** stays at 1 GiB; a header asking for more is refused before allocation. */
+/* Largest image image_read accepts: 8192 x 8192 pixels, 16384 on a side
+** (a reader's buffers grow with a row), and 8192 x 8192 x 4 values, so its
+** float copy stays at 1 GiB (an image of more channels has fewer pixels);
+** a header asking for more is refused before allocation. */
 #define IMAGE_READ_MAX_PIXELS (8192LL * 8192LL)
+#define IMAGE_READ_MAX_SIDE   16384
+#define IMAGE_READ_MAX_VALUES (IMAGE_READ_MAX_PIXELS * 4)
 
 typedef struct Image {
   int width, height, channels;

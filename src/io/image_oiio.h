@@ -24,7 +24,7 @@ extern "C" {
 
 /* Bumped whenever SumiOiioApi or the structs below change shape, so a stale
 ** libsumi_oiio.so from an older build is refused instead of misused. */
-#define SUMI_OIIO_API_VERSION 4
+#define SUMI_OIIO_API_VERSION 5
 
 /* Pixel types crossing the bridge. */
 enum {
@@ -73,6 +73,14 @@ typedef struct SumiOiioWrite {
 /* A file being written a band of rows at a time (stream_open). */
 typedef struct SumiOiioStream SumiOiioStream;
 
+/* What a file's header may ask for. */
+typedef struct SumiOiioLimits {
+  long long pixels; /* width * height */
+  int side;         /* width, and height */
+  int channels;
+  long long values; /* width * height * channels */
+} SumiOiioLimits;
+
 typedef struct SumiOiioApi {
   int version;                       /* SUMI_OIIO_API_VERSION */
   const char *oiio_version;          /* OpenImageIO's own version string */
@@ -89,10 +97,12 @@ typedef struct SumiOiioApi {
   ** allocated with malloc: the caller frees it. Otherwise returns
   ** SUMI_OIIO_NOT_IMAGE, SUMI_OIIO_CORRUPT or SUMI_OIIO_TOO_LARGE with the
   ** reason in err.
-  ** max_pixels bounds width*height (a header asking for more is refused
-  ** before any allocation); max_channels bounds the channel count. */
-  int (*read)(const char *path, int want, long long max_pixels, int max_channels,
-              SumiOiioPixels *px, char *err, size_t errlen);
+  ** limits bounds the header: one asking for more is refused before any
+  ** allocation, sumi's or the libraries' (OpenImageIO's limits:channels and
+  ** limits:imagesize_MB and OpenEXR's largest image and tile are set from
+  ** it, since OpenEXR sizes buffers from a row's width as the file opens). */
+  int (*read)(const char *path, int want, const SumiOiioLimits *limits, SumiOiioPixels *px,
+              char *err, size_t errlen);
   /* write, for pixels that arrive a band of rows at a time: open path
   ** for px's size and type (px->data is not read), hand stream_rows rows
   ** y0..y1-1 in order, top to bottom, then stream_close, which frees the

@@ -699,6 +699,104 @@ TEST(limits) {
   CHECK(access(tmp_path("wide.exr"), F_OK) != 0);
 }
 
+static void put_le(unsigned char *p, uint32_t v, int bytes) {
+  for (int b = 0; b < bytes; b++) p[b] = (unsigned char)(v >> (8 * b));
+}
+
+/* Write a TIFF header of 8192 x 8192 pixels of n samples of bits each
+** (float at 32 bits), with one tiny strip: no pixel data to speak of. */
+static void write_huge_tiff(const char *path, int n, int bits) {
+  enum { ENTRIES = 12, IFD = 8, ARRAYS = IFD + 2 + ENTRIES * 12 + 4 };
+  unsigned char tif[ARRAYS + 3 * 2 * IMAGE_MAX_CHANNELS + 16] = { 'I', 'I', 42, 0 };
+  put_le(tif + 4, IFD, 4);
+  put_le(tif + IFD, ENTRIES, 2);
+  uint32_t nb = (uint32_t)n, at_bits = ARRAYS, extra = ARRAYS + 2 * nb, format = ARRAYS + 4 * nb;
+  uint32_t strip = ARRAYS + 6 * nb;
+  /* tag, type (3 short, 4 long), count, value or offset; in tag order */
+  const uint32_t e[ENTRIES][4] = {
+    { 256, 4, 1, 8192 }, { 257, 4, 1, 8192 }, { 258, 3, nb, at_bits }, { 259, 3, 1, 1 },
+    { 262, 3, 1, 1 }, { 273, 4, 1, strip }, { 277, 3, 1, nb }, { 278, 4, 1, 8192 },
+    { 279, 4, 1, 16 }, { 284, 3, 1, 1 }, { 338, 3, nb - 1, extra }, { 339, 3, nb, format },
+  };
+  for (int k = 0; k < ENTRIES; k++) {
+    unsigned char *d = tif + IFD + 2 + 12 * k;
+    put_le(d, e[k][0], 2), put_le(d + 2, e[k][1], 2), put_le(d + 4, e[k][2], 4);
+    put_le(d + 8, e[k][3], e[k][1] == 3 && e[k][2] == 1 ? 2 : 4);
+  }
+  for (int c = 0; c < n; c++) {
+    put_le(tif + at_bits + 2 * c, (uint32_t)bits, 2);
+    put_le(tif + format + 2 * c, bits == 32 ? 3 : 1, 2); /* IEEE float or unsigned */
+  }                                                       /* extra samples: 0, unspecified */
+  write_bytes(path, tif, sizeof tif);
+}
+
+/* Headers within the pixel and channel limits whose pixels would not fit
+** in memory are refused before anything is allocated (a fuzzed header once
+** made the reader ask for 4 GiB): 8 bytes a pixel as floats pass sumi's
+** IMAGE_READ_MAX_VALUES; 16 floats a pixel pass even OpenImageIO's own
+** limits:imagesize_MB, which the bridge sets, checked as the file opens. */
+TEST(limit_values) {
+  char err[512] = "";
+  Image *img = NULL;
+  write_huge_tiff(tmp_path("huge8.tif"), 8, 8);
+  CHECK(image_read(tmp_path("huge8.tif"), &img, err, sizeof err) == 0 && img == NULL);
+  CHECK(strstr(err, "too large") && strstr(err, "8192x8192 with 8 channels") &&
+        strstr(err, "IMAGE_READ_MAX_VALUES"));
+  write_huge_tiff(tmp_path("huge16.tif"), IMAGE_MAX_CHANNELS, 32);
+  CHECK(image_read(tmp_path("huge16.tif"), &img, err, sizeof err) == 0 && img == NULL);
+  CHECK(strstr(err, "exceeds \"limits:imagesize_MB\" = 2048") != NULL);
+}
+
+/* An EXR whose dataWindow is made 8388620 x 8: fewer pixels than 8192 x
+** 8192, but OpenEXR sizes its decompression buffers by a row as the file
+** opens (1.6 GB here, found by fuzzing); the bridge's bound on a side,
+** IMAGE_READ_MAX_SIDE, set as OpenEXR's largest image, refuses it first. */
+TEST(limit_exr_row) {
+  char err[512] = "";
+  Image *img = coded_image(2, 2, 3, 5), *back = NULL;
+  CHECK(image_write(tmp_path("row.exr"), img, err, sizeof err));
+  image_destroy(img);
+  FILE *f = fopen(tmp_path("row.exr"), "rb");
+  unsigned char bytes[8192];
+  size_t n = f ? fread(bytes, 1, sizeof bytes, f) : 0;
+  if (f) fclose(f);
+  static const char key[] = "dataWindow\0box2i";
+  unsigned char *w = NULL;
+  for (size_t i = 0; i + sizeof key + 20 <= n && !w; i++)
+    if (!memcmp(bytes + i, key, sizeof key)) w = bytes + i + sizeof key + 4;
+  CHECK(w != NULL);
+  if (!w) return;
+  put_le(w + 8, 8388619, 4); /* xmax; xmin, ymin 0 */
+  put_le(w + 12, 7, 4);      /* ymax */
+  write_bytes(tmp_path("row_wide.exr"), bytes, n);
+  CHECK(image_read(tmp_path("row_wide.exr"), &back, err, sizeof err) == 0 && back == NULL);
+  if (!strstr(err, "maximum width")) fprintf(stderr, "  got: %s\n", err);
+  CHECK(strstr(err, "maximum width") != NULL);
+}
+
+/* An EXR whose first attribute says it holds 2 GB: OpenEXR would allocate
+** that before reading it (found by fuzzing); the bridge checks every
+** attribute's size against the bytes left in the file first. */
+TEST(limit_exr_attribute) {
+  char err[512] = "";
+  Image *img = coded_image(2, 2, 3, 7), *back = NULL;
+  CHECK(image_write(tmp_path("attr.exr"), img, err, sizeof err));
+  image_destroy(img);
+  FILE *f = fopen(tmp_path("attr.exr"), "rb");
+  unsigned char bytes[8192];
+  size_t n = f ? fread(bytes, 1, sizeof bytes, f) : 0;
+  if (f) fclose(f);
+  /* magic, version, then the first attribute: name, type, size */
+  size_t at = 8;
+  for (int z = 0; z < 2 && at < n; at++) z += bytes[at] == 0;
+  CHECK(at + 4 < n);
+  put_le(bytes + at, 0x7fff0000u, 4);
+  write_bytes(tmp_path("attr_huge.exr"), bytes, n);
+  CHECK(image_read(tmp_path("attr_huge.exr"), &back, err, sizeof err) == 0 && back == NULL);
+  if (!strstr(err, "says 2147418112 bytes")) fprintf(stderr, "  got: %s\n", err);
+  CHECK(strstr(err, "says 2147418112 bytes") && strstr(err, "left in the file"));
+}
+
 /* ---- the bridge ------------------------------------------------------------ */
 
 /* Whether a shared library whose path contains name is mapped in this process. */
@@ -860,6 +958,9 @@ int main(void) {
   RUN(read_not_an_image);
   RUN(read_corrupt_png);
   RUN(limits);
+  RUN(limit_values);
+  RUN(limit_exr_row);
+  RUN(limit_exr_attribute);
   RUN(bridge_loaded_once);
   int status = unit_done();
   if (status == 0) remove_tree(dir);
