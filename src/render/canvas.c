@@ -525,6 +525,7 @@ int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image *
     pt.c = &c;
     if (out8 && set.uniform) mix_tables(&pt, pt.ink_color);
   }
+  if (!(out8 && pp.alpha >= 1) || pt.read_layer) paper_fill_linear(&pp);   /* composite_pixel reads them */
   double t1 = stats_now();
   Image *out = composite(&pt, out8);
   stats_record("canvas", stats_now() - t1);

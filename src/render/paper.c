@@ -103,7 +103,7 @@ static void paper_alloc(Paper *p, int w, int h) {
   p->width = w;
   p->height = h;
   p->display = xmalloc(n * 3 * sizeof *p->display);
-  p->linear = xmalloc(n * 3 * sizeof *p->linear);
+  p->linear = NULL;   /* paper_fill_linear, when the composite reads them */
   p->absorb = xmalloc(n * sizeof *p->absorb);
   p->alpha = 1;
 }
@@ -120,14 +120,29 @@ static void normalise_absorb(Paper *p, double grain) {
   }
 }
 
-/* The linear values and the codes of the display values. */
-static void fill_linear(Paper *p) {
+/* The codes of the display values. */
+static void fill_codes(Paper *p) {
   size_t n = (size_t)p->width * p->height * 3;
   p->code = xmalloc(n + 1);
-  for (size_t i = 0; i < n; i++) {
-    p->linear[i] = display_to_linear(p->display[i]);
-    p->code[i] = (uint8_t)(p->display[i] * 255 + 0.5f);
-  }
+  for (size_t i = 0; i < n; i++) p->code[i] = (uint8_t)(p->display[i] * 255 + 0.5f);
+}
+
+/* The linear values of the display values (p->linear allocated). */
+static void linear_values(Paper *p) {
+  size_t n = (size_t)p->width * p->height * 3;
+  for (size_t i = 0; i < n; i++) p->linear[i] = display_to_linear(p->display[i]);
+}
+
+/* The linear values and the codes of the display values. */
+static void fill_linear(Paper *p) {
+  fill_codes(p);
+  linear_values(p);
+}
+
+void paper_fill_linear(Paper *p) {
+  if (p->linear) return;
+  p->linear = xmalloc((size_t)p->width * p->height * 3 * sizeof *p->linear);
+  linear_values(p);
 }
 
 /* Procedural xuan paper. */
@@ -184,7 +199,7 @@ static int xuan(const SceneSheet *sh, Paper *p, char *err, size_t errlen) {
   noise_fbm_free(&pulp_fbm);
   noise_fbm_free(&tooth_fbm);
   normalise_absorb(p, sh->grain);
-  fill_linear(p);
+  fill_codes(p);
   return 1;
 }
 
@@ -226,7 +241,7 @@ static int image_sheet(const SceneSheet *sh, Paper *p, char *err, size_t errlen)
     }
   image_destroy(img);
   normalise_absorb(p, sh->grain);
-  fill_linear(p);
+  fill_codes(p);
   return 1;
 }
 

@@ -25,7 +25,8 @@
 typedef struct Paper {
   int width, height;     /* the tile; pixel (x, y) shows texel (x mod width, y mod height) */
   float *display;        /* 3 a texel: sRGB display values */
-  float *linear;         /* 3 a texel: the same in linear light */
+  float *linear;         /* 3 a texel: the same in linear light (a sheet's: NULL
+                            until paper_fill_linear) */
   uint8_t *code;         /* 3 a texel: the display values as 8-bit codes, rounded */
   float *absorb;         /* 1 a texel; NULL: 1 everywhere (a flat colour) */
   float alpha;           /* 1, or the alpha of a flat background */
@@ -45,6 +46,10 @@ int paper_create(const SceneSheet *sh, Color background, Paper *p, char *err, si
 ** image that cannot be read, a frame over PAPER_MAX_TEXELS for an image). */
 int paper_backdrop(const SceneOutput *o, int width, int height, Paper *p, char *err, size_t errlen);
 void paper_free(Paper *p);
+
+/* Work out p's linear values, if they are not yet (a sheet's wait for a
+** composite that reads them: most frames go from the codes alone). */
+void paper_fill_linear(Paper *p);
 
 /* The texel index of pixel (x, y) (x, y >= 0). */
 static inline size_t paper_texel(const Paper *p, int x, int y) {
