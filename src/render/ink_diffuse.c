@@ -236,9 +236,9 @@ static void first_pass(const InkCanvas *c, Updates *u) {
   uint8_t *near = xmalloc((size_t)c->width + 2);
   for (int y = 0; y < c->height; y++) {
     darker_row(c, y, near);
-    for (int x = 0; x < c->width; x++) {
-      Offer o;
-      if (near[x] && best_offer(c, x, y, 1, &o)) updates_add(u, &o);
+    for (const uint8_t *at = near, *end = near + c->width; (at = memchr(at, 1, (size_t)(end - at))); at++) {
+      Offer o;   /* the flagged pixels, skipping the runs of others at once */
+      if (best_offer(c, (int)(at - near), y, 1, &o)) updates_add(u, &o);
     }
   }
   free(near);
@@ -323,6 +323,11 @@ static void offers_of(const InkCanvas *c, Updates *u) {
   }
 }
 
+/* Giver q offers to its neighbour p when the rules let it. */
+static inline void offer_to(const InkCanvas *c, Receivers *t, size_t q, size_t p, int pass, Updates *u) {
+  if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass)) take(c, t, q, p, u);
+}
+
 /* A later pass. A pixel's best offer can change only when it or a
 ** neighbour changed: so the pixels that took ink in the last pass (last)
 ** look at all their neighbours again, and the pixels that can give from
@@ -342,12 +347,10 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
     uint32_t q = now->v[i].pixel;
     if (c->ready[q] != pass - 1) continue;   /* it took a darker offer since: listed again */
     int x0 = (int)(q % (uint32_t)w), y0 = (int)(q / (uint32_t)w);
-    for (int d = 0; d < 4; d++) {
-      int x = x0 + (d == 0 ? -1 : d == 1), y = y0 + (d == 2 ? -1 : d == 3);
-      if (x < 0 || y < 0 || x >= w || y >= h) continue;
-      size_t p = (size_t)y * w + x;
-      if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass)) take(c, t, q, p, u);
-    }
+    if (x0 > 0) offer_to(c, t, q, q - 1, pass, u);   /* left, right, up, down */
+    if (x0 + 1 < w) offer_to(c, t, q, q + 1, pass, u);
+    if (y0 > 0) offer_to(c, t, q, q - (size_t)w, pass, u);
+    if (y0 + 1 < h) offer_to(c, t, q, q + (size_t)w, pass, u);
   }
   offers_of(c, u);
 }

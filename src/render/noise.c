@@ -40,9 +40,17 @@ void noise_fbm_free(NoiseFbm *n) {
 /* Perlin's quintic fade: 6t^5 - 15t^4 + 10t^3 (zero slope and curvature at 0 and 1). */
 static inline float fade(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 
+/* floorf(v), to the bit, without the library call where v fits an int
+** (an integral v, -0 too, is its own floor). */
+static inline float floor_of(float v) {
+  if (!(v > -2147483648.0f && v < 2147483648.0f)) return floorf(v);
+  float t = (float)(int)v;
+  return t > v ? t - 1 : t == v ? v : t;
+}
+
 /* One octave: gradient noise over a periodic p x p lattice at (X, Y) in cells. */
 static float gradient_noise(const float *grad, int p, float X, float Y) {
-  float fx = floorf(X), fy = floorf(Y);
+  float fx = floor_of(X), fy = floor_of(Y);
   float x = X - fx, y = Y - fy;
   int i0 = (int)fx % p, j0 = (int)fy % p;
   if (i0 < 0) i0 += p;
