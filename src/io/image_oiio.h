@@ -98,9 +98,8 @@ typedef struct SumiOiioApi {
   ** SUMI_OIIO_NOT_IMAGE, SUMI_OIIO_CORRUPT or SUMI_OIIO_TOO_LARGE with the
   ** reason in err.
   ** limits bounds the header: one asking for more is refused before any
-  ** allocation, sumi's or the libraries' (OpenImageIO's limits:channels and
-  ** limits:imagesize_MB and OpenEXR's largest image and tile are set from
-  ** it, since OpenEXR sizes buffers from a row's width as the file opens). */
+  ** allocation, sumi's or OpenImageIO's (its limits:channels and
+  ** limits:imagesize_MB are set from it). */
   int (*read)(const char *path, int want, const SumiOiioLimits *limits, SumiOiioPixels *px,
               char *err, size_t errlen);
   /* write, for pixels that arrive a band of rows at a time: open path

@@ -748,9 +748,9 @@ TEST(limit_values) {
 }
 
 /* An EXR whose dataWindow is made 8388620 x 8: fewer pixels than 8192 x
-** 8192, but OpenEXR sizes its decompression buffers by a row as the file
-** opens (1.6 GB here, found by fuzzing); the bridge's bound on a side,
-** IMAGE_READ_MAX_SIDE, set as OpenEXR's largest image, refuses it first. */
+** 8192, but OpenEXR's C++ reader sized its decompression buffers by a row
+** as the file opened (1.6 GB here, found by fuzzing). Through the core
+** library the header is read alone and IMAGE_READ_MAX_SIDE refuses it. */
 TEST(limit_exr_row) {
   char err[512] = "";
   Image *img = coded_image(2, 2, 3, 5), *back = NULL;
@@ -770,13 +770,13 @@ TEST(limit_exr_row) {
   put_le(w + 12, 7, 4);      /* ymax */
   write_bytes(tmp_path("row_wide.exr"), bytes, n);
   CHECK(image_read(tmp_path("row_wide.exr"), &back, err, sizeof err) == 0 && back == NULL);
-  if (!strstr(err, "maximum width")) fprintf(stderr, "  got: %s\n", err);
-  CHECK(strstr(err, "maximum width") != NULL);
+  CHECK(strstr(err, "too large: 8388620x8 with 3 channels") &&
+        strstr(err, "IMAGE_READ_MAX_SIDE"));
 }
 
-/* An EXR whose first attribute says it holds 2 GB: OpenEXR would allocate
-** that before reading it (found by fuzzing); the bridge checks every
-** attribute's size against the bytes left in the file first. */
+/* An EXR whose first attribute says it holds 2 GB: OpenEXR's C++ reader
+** allocated that before reading it (found by fuzzing); the core library
+** finds the file too short for it. */
 TEST(limit_exr_attribute) {
   char err[512] = "";
   Image *img = coded_image(2, 2, 3, 7), *back = NULL;
@@ -793,8 +793,7 @@ TEST(limit_exr_attribute) {
   put_le(bytes + at, 0x7fff0000u, 4);
   write_bytes(tmp_path("attr_huge.exr"), bytes, n);
   CHECK(image_read(tmp_path("attr_huge.exr"), &back, err, sizeof err) == 0 && back == NULL);
-  if (!strstr(err, "says 2147418112 bytes")) fprintf(stderr, "  got: %s\n", err);
-  CHECK(strstr(err, "says 2147418112 bytes") && strstr(err, "left in the file"));
+  CHECK(strstr(err, "Unable to read 'capDate'") != NULL);
 }
 
 /* ---- the bridge ------------------------------------------------------------ */
