@@ -39,6 +39,10 @@ static inline M4 f4_lt(F4 a, F4 b) { return _mm_cmplt_ps(a, b); }
 static inline M4 f4_le(F4 a, F4 b) { return _mm_cmple_ps(a, b); }
 static inline M4 m4_and(M4 a, M4 b) { return _mm_and_ps(a, b); }
 static inline M4 m4_or(M4 a, M4 b) { return _mm_or_ps(a, b); }
+static inline M4 m4_andnot(M4 a, M4 b) { return _mm_andnot_ps(a, b); }   /* !a & b */
+static inline M4 m4_all(void) { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
+static inline M4 m4_none(void) { return _mm_setzero_ps(); }
+static inline int m4_bits(M4 m) { return _mm_movemask_ps(m); }   /* lane i's condition: bit i */
 /* m ? a : b, lane by lane */
 static inline F4 f4_select(M4 m, F4 a, F4 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
 /* m ? a : 0 */
@@ -46,6 +50,14 @@ static inline F4 f4_keep(M4 m, F4 a) { return _mm_and_ps(m, a); }
 /* (float)(int)a: toward zero, for |a| < 2^31 */
 static inline F4 f4_trunc(F4 a) { return _mm_cvtepi32_ps(_mm_cvttps_epi32(a)); }
 static inline F4 f4_sqrt(F4 a) { return _mm_sqrt_ps(a); }
+/* (float)((bits of a >> 23) - 127): the exponent of a positive float */
+static inline F4 f4_exponent(F4 a) {
+  return _mm_cvtepi32_ps(_mm_sub_epi32(_mm_srli_epi32(_mm_castps_si128(a), 23), _mm_set1_epi32(127)));
+}
+/* 2^i for whole i in [-126, 127] */
+static inline F4 f4_pow2i(F4 i) {
+  return _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(_mm_cvttps_epi32(i), _mm_set1_epi32(127)), 23));
+}
 /* the bits of a and mask, or mask */
 static inline F4 f4_and_bits(F4 a, uint32_t mask) {
   return _mm_and_ps(a, _mm_castsi128_ps(_mm_set1_epi32((int32_t)mask)));
@@ -79,10 +91,29 @@ static inline M4 f4_lt(F4 a, F4 b) { LANES_TEST(a.f[i] < b.f[i]); }
 static inline M4 f4_le(F4 a, F4 b) { LANES_TEST(a.f[i] <= b.f[i]); }
 static inline M4 m4_and(M4 a, M4 b) { LANES_TEST(a.m[i] & b.m[i]); }
 static inline M4 m4_or(M4 a, M4 b) { LANES_TEST(a.m[i] | b.m[i]); }
+static inline M4 m4_andnot(M4 a, M4 b) { LANES_TEST(~a.m[i] & b.m[i]); }
+static inline M4 m4_all(void) { LANES_TEST(1); }
+static inline M4 m4_none(void) { LANES_TEST(0); }
+static inline int m4_bits(M4 m) {
+  int r = 0;
+  for (int i = 0; i < 4; i++) r |= (m.m[i] != 0) << i;
+  return r;
+}
 static inline F4 f4_select(M4 m, F4 a, F4 b) { LANES_MAP(m.m[i] ? a.f[i] : b.f[i]); }
 static inline F4 f4_keep(M4 m, F4 a) { LANES_MAP(m.m[i] ? a.f[i] : 0.0f); }
 static inline F4 f4_trunc(F4 a) { LANES_MAP((float)(int)a.f[i]); }
 static inline F4 f4_sqrt(F4 a) { LANES_MAP(sqrtf(a.f[i])); }
+static inline float lanes_exponent(float x) {
+  union { float f; uint32_t u; } b = {x};
+  return (float)((int32_t)(b.u >> 23) - 127);
+}
+static inline float lanes_pow2i(float x) {
+  union { float f; uint32_t u; } b;
+  b.u = (uint32_t)((int32_t)x + 127) << 23;
+  return b.f;
+}
+static inline F4 f4_exponent(F4 a) { LANES_MAP(lanes_exponent(a.f[i])); }
+static inline F4 f4_pow2i(F4 a) { LANES_MAP(lanes_pow2i(a.f[i])); }
 static inline float lanes_bits(float x, uint32_t and_mask, uint32_t or_mask) {
   union { float f; uint32_t u; } b = {x};
   b.u = (b.u & and_mask) | or_mask;

@@ -406,15 +406,26 @@ static void layer_bright(const ThresholdStyle *ts, Block *b, int i, const float 
                          float *bright, int j0, int j1) {
   const Layer *L = &ts->layers[i];
   float lo = L->lo, inv = L->inv_span;
-  int in_range = 0, above = 0;   /* counts, so the loop runs side by side */
-  for (int j = j0; j < j1; j++) {
-    float yl = (y[j] - lo) * inv;
-    above += yl > 0;
-    in_range += (yl > 0) & (yl < 1);
+  /* every sample past the range (no ink), or none above its start (solid)?
+  ** Lanes: a NaN is neither */
+  F4 flo = f4_set(lo), finv = f4_set(inv), zero = f4_set(0), one = f4_set(1);
+  M4 past = m4_all(), above = m4_none();
+  int j = j0;
+  for (; j + 4 <= j1; j += 4) {
+    F4 yl = f4_mul(f4_sub(f4_load(y + j), flo), finv);
+    M4 up = f4_lt(zero, yl);
+    above = m4_or(above, up);
+    past = m4_and(past, m4_andnot(f4_lt(yl, one), up));
   }
-  if (above == j1 - j0 && !in_range) return;   /* every sample above the range: no ink */
-  if (!above) {                                /* every one below it: solid */
-    for (int j = j0; j < j1; j++) bright[j] = 0;
+  int all_past = m4_bits(past) == 15, any_above = m4_bits(above) != 0;
+  for (; j < j1; j++) {
+    float yl = (y[j] - lo) * inv;
+    any_above |= yl > 0;
+    all_past &= yl > 0 && !(yl < 1);
+  }
+  if (all_past) return;   /* every sample past the range: no ink */
+  if (!any_above) {       /* none above its start: solid */
+    for (j = j0; j < j1; j++) bright[j] = 0;
     return;
   }
   layer_fill(ts, b, i);
@@ -424,20 +435,49 @@ static void layer_bright(const ThresholdStyle *ts, Block *b, int i, const float 
                    inv, bright, j0, j1 < b->n ? j1 : b->n);   /* taps: n filled */
 }
 
-/* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
-** layers (eq. 4; the filtered bright fraction in place of T(frac(xn), t)),
-** blended toward x by the strength, into T. */
-static void textured_step(const ThresholdStyle *ts, Block *b, unsigned term, const float *x_in,
-                          int n, float inv_n, float t_const, float *T, int j0, int j1) {
-  float x[BLOCK], whole[BLOCK], frac[BLOCK], bright[BLOCK];
-  for (int j = j0; j < j1; j++) {
-    float xc = x_in[j] > 0 ? (x_in[j] < 1 ? x_in[j] : 1) : 0;   /* NaN too */
+/* The smooth terms x_in[j0..j1) clamped to [0, 1] (NaN: 0) into x, and
+** x n split into its whole part and fraction; bright[j] = 1. */
+static void step_split(const float *x_in, int n, float *x, float *whole, float *frac, float *bright, int j0,
+                       int j1) {
+  F4 fn = f4_set((float)n), zero = f4_set(0), one = f4_set(1);
+  int j = j0;
+  for (; j + 4 <= j1; j += 4) {
+    F4 xc = f4_min(f4_max(f4_load(x_in + j), zero), one), xn = f4_mul(xc, fn), w = f4_trunc(xn);
+    f4_store(x + j, xc);
+    f4_store(whole + j, w);
+    f4_store(frac + j, f4_sub(xn, w));
+    f4_store(bright + j, one);
+  }
+  for (; j < j1; j++) {
+    float xc = x_in[j] > 0 ? (x_in[j] < 1 ? x_in[j] : 1) : 0;
     float xn = xc * (float)n, w = (float)(int)xn;
     x[j] = xc;
     whole[j] = w;
     frac[j] = xn - w;
     bright[j] = 1;
   }
+}
+
+/* T[j] = (whole[j] + bright[j]) / n, at most 1 (whole = n only at x = 1,
+** where T is 1), for j in [j0, j1). */
+static void step_join(const float *whole, const float *bright, float inv_n, float *T, int j0, int j1) {
+  F4 finv = f4_set(inv_n), one = f4_set(1);
+  int j = j0;
+  for (; j + 4 <= j1; j += 4)
+    f4_store(T + j, f4_min(f4_mul(f4_add(f4_load(whole + j), f4_load(bright + j)), finv), one));
+  for (; j < j1; j++) {
+    float t = (whole[j] + bright[j]) * inv_n;
+    T[j] = t < 1 ? t : 1;
+  }
+}
+
+/* T_n(x, t) of samples j0..j1 for the term (TERM_*_BIT) with t from its
+** layers (eq. 4; the filtered bright fraction in place of T(frac(xn), t)),
+** blended toward x by the strength, into T. */
+static void textured_step(const ThresholdStyle *ts, Block *b, unsigned term, const float *x_in,
+                          int n, float inv_n, float t_const, float *T, int j0, int j1) {
+  float x[BLOCK], whole[BLOCK], frac[BLOCK], bright[BLOCK];
+  step_split(x_in, n, x, whole, frac, bright, j0, j1);
   int any = 0;
   for (int i = 0; i < ts->nlayers; i++)
     if (ts->layers[i].terms & term) {
@@ -446,10 +486,7 @@ static void textured_step(const ThresholdStyle *ts, Block *b, unsigned term, con
     }
   if (!any)
     for (int j = j0; j < j1; j++) bright[j] = frac[j] < t_const ? 0.0f : 1.0f;
-  for (int j = j0; j < j1; j++) {   /* whole = n only at x = 1, where T is 1 */
-    float t = (whole[j] + bright[j]) * inv_n;
-    T[j] = t < 1 ? t : 1;
-  }
+  step_join(whole, bright, inv_n, T, j0, j1);
   if (!ts->nfacing && !ts->nlight) {   /* a constant strength */
     float s = ts->strength;
     if (s < 1)
@@ -512,49 +549,64 @@ static void ramp_sample(const ShadeSample *s, const RenderStyle *st, Block *b, i
   }
 }
 
-/* x^s for x in [2^-12, 1] and the power s >= 0 as exp2(s log2 x), in SIMD
-** lanes: log2 of the mantissa by the atanh series to z^9 (z = (m - 1) /
-** (m + 1) < 1/3: within 2e-6), 2^f by its Taylor series to f^7 (within 2e-6
-** relative), so within 1e-4 of powf relative for s up to 100 (1.3e-3 at
-** s = 1000). A smooth term about to be thresholded: that close is as good
-** as powf, at a fraction of its cost. */
-static inline float pow_unit(float x, float s) {
-  union { float f; int32_t i; } b = {x};
-  float e = (float)((b.i >> 23) - 127);
-  b.i = (b.i & 0x007fffff) | 0x3f800000;   /* the mantissa m in [1, 2) */
-  float z = (b.f - 1) / (b.f + 1), z2 = z * z;
-  float lg = e + 2.8853900817779268f * z * (1 + z2 * (1.0f / 3 + z2 * (0.2f + z2 * (1.0f / 7 + z2 * (1.0f / 9)))));
-  float y = s * lg;   /* <= 0 */
-  y = y > -126 ? y : -126;
-  float i = hatch_floor(y), f = (y - i) * 0.69314718f;
-  float p = 1 + f * (1 + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 + f * (1.0f / 720 + f * (1.0f / 5040)))))));
-  union { float f; int32_t i; } two = {0};
-  two.i = ((int32_t)i + 127) << 23;   /* 2^i */
-  return p * two.f;
+/* x^s for x in [2^-12, 1] and the power s >= 0 as exp2(s log2 x), four
+** lanes at a time: log2 of the mantissa by the atanh series to z^9 (z =
+** (m - 1) / (m + 1) < 1/3: within 2e-6), 2^f by its Taylor series to f^7
+** (within 2e-6 relative), so within 1e-4 of powf relative for s up to 100
+** (1.3e-3 at s = 1000). A smooth term about to be thresholded: that close
+** is as good as powf, at a fraction of its cost. */
+static inline F4 pow_unit4(F4 x, F4 s) {
+  F4 one = f4_set(1), e = f4_exponent(x);
+  F4 m = f4_or_bits(f4_and_bits(x, 0x007fffffu), 0x3f800000u);   /* the mantissa in [1, 2) */
+  F4 z = f4_div(f4_sub(m, one), f4_add(m, one)), z2 = f4_mul(z, z);
+  F4 poly = f4_add(f4_set(1.0f / 7), f4_mul(z2, f4_set(1.0f / 9)));
+  poly = f4_add(f4_set(0.2f), f4_mul(z2, poly));
+  poly = f4_add(f4_set(1.0f / 3), f4_mul(z2, poly));
+  poly = f4_add(one, f4_mul(z2, poly));
+  F4 lg = f4_add(e, f4_mul(f4_mul(f4_set(2.8853900817779268f), z), poly));
+  F4 y = f4_max(f4_mul(s, lg), f4_set(-126));   /* <= 0 */
+  F4 i = f4_floor(y), f = f4_mul(f4_sub(y, i), f4_set(0.69314718f));
+  static const float c[7] = {1.0f / 5040, 1.0f / 720, 1.0f / 120, 1.0f / 24, 1.0f / 6, 0.5f, 1};
+  F4 p = f4_set(c[0]);
+  for (int k = 1; k < 7; k++) p = f4_add(f4_set(c[k]), f4_mul(f, p));
+  p = f4_add(one, f4_mul(f, p));
+  return f4_mul(p, f4_pow2i(i));   /* p 2^i */
 }
 
-/* The smooth specular term of samples k0..k0+n-1 of r lit from l*: f_s =
-** (n.h / |h|)^shininess where n.l > 0 and it reaches 2^-12, else 0 (a
-** term under 2^-12, thresholded or not, moves no colour by a tenth of an
-** 8-bit step). The samples where it may
-** not be 0 lie in [*j0, *j1) (empty: none). */
+/* The smooth specular term of samples k0..k0+n-1 of r (n a multiple of
+** 4) lit from l*: f_s = (n.h / |h|)^shininess where n.l > 0 and it
+** reaches 2^-12, else 0 (a term under 2^-12, thresholded or not, moves no
+** colour by a tenth of an 8-bit step). The lane groups where it may not
+** be 0 lie in [*j0, *j1) (multiples of 4; empty: none). */
 static void specular_block(const ShadeRow *r, const RenderStyle *st, int k0, int n, const float *lx,
                            const float *ly, const float *lz, const float *nl, float *fs, int *j0,
                            int *j1) {
   const float *nx = r->nx + k0, *ny = r->ny + k0, *nz = r->nz + k0;
   const float *vx = r->vx + k0, *vy = r->vy + k0, *vz = r->vz + k0;
-  float cut2 = st->layers->spec_cut2;
-  for (int j = 0; j < n; j++) {
-    float hx = lx[j] + vx[j], hy = ly[j] + vy[j], hz = lz[j] + vz[j];
-    float nh = nx[j] * hx + ny[j] * hy + nz[j] * hz, hh = hx * hx + hy * hy + hz * hz;
-    int lit = !(nl[j] <= 0) & !(nh <= 0) & !(nh * nh <= cut2 * hh);
-    fs[j] = lit ? nh / sqrtf(hh) : 0;
+  F4 cut2 = f4_set(st->layers->spec_cut2), zero = f4_set(0);
+  *j0 = n;
+  *j1 = 0;
+  for (int j = 0; j < n; j += 4) {
+    F4 hx = f4_add(f4_load(lx + j), f4_load(vx + j));
+    F4 hy = f4_add(f4_load(ly + j), f4_load(vy + j));
+    F4 hz = f4_add(f4_load(lz + j), f4_load(vz + j));
+    F4 nh = f4_add(f4_add(f4_mul(f4_load(nx + j), hx), f4_mul(f4_load(ny + j), hy)), f4_mul(f4_load(nz + j), hz));
+    F4 hh = f4_add(f4_add(f4_mul(hx, hx), f4_mul(hy, hy)), f4_mul(hz, hz));
+    /* lit: !(n.l <= 0) & !(n.h <= 0) & !((n.h)^2 <= cut^2 |h|^2) */
+    M4 dark = m4_or(m4_or(f4_le(f4_load(nl + j), zero), f4_le(nh, zero)), f4_le(f4_mul(nh, nh), f4_mul(cut2, hh)));
+    M4 lit = m4_andnot(dark, m4_all());
+    f4_store(fs + j, f4_keep(lit, f4_div(nh, f4_sqrt(hh))));
+    if (m4_bits(lit)) {
+      if (*j0 > j) *j0 = j;
+      *j1 = j + 4;
+    }
   }
-  *j0 = 0;
-  while (*j0 < n && fs[*j0] == 0) ++*j0;
-  *j1 = n;
-  while (*j1 > *j0 && fs[*j1 - 1] == 0) --*j1;
-  for (int j = *j0; j < *j1; j++) fs[j] = fs[j] > 0 ? pow_unit(fs[j], st->shininess) : 0;
+  F4 s = f4_set(st->shininess);
+  for (int j = *j0; j < *j1; j += 4) {
+    F4 x = f4_load(fs + j);
+    f4_store(fs + j, f4_keep(f4_lt(zero, x), pow_unit4(x, s)));
+  }
+  if (*j0 > *j1) *j0 = *j1 = 0;
 }
 
 /* Unit vectors toward light lt from samples k0..k0+n-1 of r, and the
@@ -618,8 +670,6 @@ static void bands_block(const ShadeRow *r, const RenderObject *o, Block *b, int 
     if (st->specular > 0) specular_block(r, st, k0, n, lx, ly, lz, nl, fs, &s0, &s1);
     if (shadowed && st->specular > 0)
       for (int j = s0; j < s1; j++) fs[j] *= vis[j];
-    s0 &= ~3;
-    s1 = (s1 + 3) & ~3;
     for (int j = 0; j < n; j++) tsp[j] = 0;
     if (s0 < s1) textured_step(ts, b, TERM_SPECULAR_BIT, fs, st->spec_n, st->inv_spec_n, st->spec_threshold, tsp, s0, s1);
     for (int j = 0; j < n; j++) {
@@ -660,11 +710,11 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
       bands_block(r, o, &b, k, R, G, B);
     }
     if (st->edge > 0)   /* edge = max(0, n.v) below the cutoff: the edge colour */
-      for (int j = 0; j < b.n4; j++) {
-        int edge = b.nv[j] < st->edge;
-        R[j] = edge ? st->edge_color[0] : R[j];
-        G[j] = edge ? st->edge_color[1] : G[j];
-        B[j] = edge ? st->edge_color[2] : B[j];
+      for (int j = 0; j < b.n4; j += 4) {
+        M4 edge = f4_lt(f4_load(b.nv + j), f4_set(st->edge));
+        f4_store(R + j, f4_select(edge, f4_set(st->edge_color[0]), f4_load(R + j)));
+        f4_store(G + j, f4_select(edge, f4_set(st->edge_color[1]), f4_load(G + j)));
+        f4_store(B + j, f4_select(edge, f4_set(st->edge_color[2]), f4_load(B + j)));
       }
     float *out = rgb + (size_t)k * stride;
     for (int j = 0; j < b.n; j++, out += stride) {
