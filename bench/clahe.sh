@@ -23,11 +23,11 @@ if [ ! -f "$DATA/brick.png" ] || ! "$PY" -c "import cv2, numpy" 2>/dev/null; the
 fi
 OBJS=$(find "$BUILD/src" -name '*.o' ! -name main.o)
 cc -std=c11 -D_DEFAULT_SOURCE -O2 -o "$DIR/clahe_bench" bench/clahe_bench.c $OBJS \
-   $(sed -n 's/^LDLIBS *:= *//p' Makefile)
+   $(sed -n '/^LDLIBS *:=/{:a;/\\$/{N;s/\\\n//;ba};s/^LDLIBS *:= *//p}' Makefile)   # its continued lines joined
 "$PY" bench/clahe_mosaic.py "$DATA" "$DIR/clahe_in.png"
-echo "CLAHE, 1024x1024 (skimage brick, grass, gravel, camera), 1 thread, medians of 5 alternating rounds:"
-printf '  %-22s %9s %9s %7s %9s | %9s %9s %7s\n' "tiles, clip" "sumi ms" "opencv ms" "ratio" "max diff" "level ms" "pyramid" "ratio"
 ROUNDS=${ROUNDS:-5}
+echo "CLAHE, 1024x1024 (skimage brick, grass, gravel, camera), 1 thread, medians of $ROUNDS alternating rounds:"
+printf '  %-22s %9s %9s %7s %9s | %9s %9s %7s\n' "tiles, clip" "sumi ms" "opencv ms" "ratio" "max diff" "level ms" "pyramid" "ratio"
 for cfg in "64 64 4" "64 64 0" "16 16 2" "8 8 40"; do
   set -- $cfg
   : >"$DIR/clahe_rounds.txt"
