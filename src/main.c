@@ -257,16 +257,31 @@ static void eval_options_from(const Options *o, EvalOptions *eo) {
   if (o->limits[3]) eo->max_memory = (long long)o->limits[3] << 20;
 }
 
-/* Parse and evaluate FILE into *scene; the exit status (0 ok, 1 errors). */
-static int evaluate(const Options *o, Arena *arena, Scene *scene) {
-  int file;
+/* Parse and evaluate FILE into *scene; the exit status (0 ok, 1 errors);
+** *main_file (when not NULL) the diag number of FILE. */
+static int evaluate(const Options *o, Arena *arena, Scene *scene, int *main_file) {
+  int file = -1;
   AstNode *prog = load_and_parse(o, arena, &file);
   if (!prog || diag_error_count()) return 1;
   if (prog->list.count == 0)
     diag_warning(ast_range(prog), "`%s` is empty: there is nothing to render", diag_file(file)->name);
   EvalOptions eo;
   eval_options_from(o, &eo);
+  if (main_file) *main_file = file;
   return eval_program(prog, file, arena, &eo, scene) ? 1 : 0;
+}
+
+/* A scene that styles things but has nothing to style draws the background
+** alone: a warning at its first style (the main file's, before an
+** include's), for check and render (`eval` prints such scenes on purpose). */
+static void warn_nothing_drawn(const Scene *sc, int main_file) {
+  if (sc->nobjects || sc->norigami || !sc->nstyles) return;
+  const SceneStyle *st = &sc->styles[0];
+  for (int i = sc->nstyles - 1; i >= 0; i--)
+    if (sc->styles[i].loc.file == main_file) st = &sc->styles[i];
+  diag_warning(st->loc, "%s%s%s is defined, but the scene has no object or origami to draw: the "
+               "picture is the background alone", st->name ? "style `" : "a style",
+               st->name ? st->name : "", st->name ? "`" : "");
 }
 
 /* sumi check FILE: parse and evaluate, diagnostics only. */
@@ -275,7 +290,9 @@ static int cmd_check(const Options *o) {
   arena_init(&arena);
   Scene scene;
   scene_init(&scene);
-  int status = evaluate(o, &arena, &scene);
+  int file;
+  int status = evaluate(o, &arena, &scene, &file);
+  if (status == 0) warn_nothing_drawn(&scene, file);
   if (status == 0 && origami_check_scene(&scene) > 0) status = 1;   /* faces, orders, flat-foldability */
   scene_free(&scene);
   arena_free(&arena);
@@ -289,7 +306,7 @@ static int cmd_faces(const Options *o) {
   arena_init(&arena);
   Scene scene;
   scene_init(&scene);
-  int status = evaluate(o, &arena, &scene);
+  int status = evaluate(o, &arena, &scene, NULL);
   if (status == 0) status = origami_list_scene(&scene, stdout);
   scene_free(&scene);
   arena_free(&arena);
@@ -360,7 +377,7 @@ static int cmd_eval(const Options *o) {
   arena_init(&arena);
   Scene scene;
   scene_init(&scene);
-  int status = evaluate(o, &arena, &scene);
+  int status = evaluate(o, &arena, &scene, NULL);
   if (status == 0) scene_print(&scene, stdout);
   scene_free(&scene);
   arena_free(&arena);
@@ -376,7 +393,7 @@ static int cmd_refine(const Options *o) {
   arena_init(&arena);
   Scene scene;
   scene_init(&scene);
-  int status = evaluate(o, &arena, &scene);
+  int status = evaluate(o, &arena, &scene, NULL);
   if (status == 0) {
     RenderOptions ro;
     memset(&ro, 0, sizeof ro);
@@ -541,6 +558,7 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
   eo.frame = frame;
   double t1 = now_seconds();
   int ok = prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0;
+  if (ok) warn_nothing_drawn(&scene, file);
   if (ok && scene_any_image(&scene, image_read_needs_bridge)) image_bridge_prefetch();
   if (ok && origami_check_scene(&scene) == 0) {
     stats_record("parse", t1 - t0);

@@ -17,8 +17,8 @@
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
 # "// tolerance: --max-diff N --max-frac F" overrides the default tolerance,
-# and "// needs: /path" (among the first three) skips the case when the file
-# a Debian package installs there is absent.
+# and (render, errors, eval) "// needs: /path" among the first three skips
+# the case when the file a Debian package installs there is absent.
 # UPDATE=1 rewrites the text snapshots, UPDATE_GOLDEN=1 the golden images.
 
 BUILD=${BUILD:-build}
@@ -54,6 +54,10 @@ check_text() {
   for f in "$ROOT/tests/$suite"/*.npr; do
     [ -e "$f" ] || continue
     name=$(basename "$f" .npr)
+    need=$(head -3 "$f" | sed -n 's|^// needs: *||p')
+    if [ -n "$need" ] && [ ! -e "$need" ]; then
+      skipped=$((skipped + 1)); echo "skip $suite/$name ($need is not installed)"; continue
+    fi
     exp="$ROOT/tests/$suite/$name.$ext"
     got="$OUT/$suite.$name.$ext"
     # shellcheck disable=SC2046

@@ -1260,6 +1260,53 @@ static void check_with_solver(Build *b) {
   origami_layers_free(&l);
 }
 
+/* The order written for `upper` over `lower` (an `above` line or the
+** matrix), or NULL when a crease or inference made it. */
+static const struct Order *written_order(const Build *b, int upper, int lower) {
+  for (int k = 0; k < b->norders; k++)
+    if (b->orders[k].upper == upper && b->orders[k].lower == lower) return &b->orders[k];
+  return NULL;
+}
+
+/* The M/V crease between faces upper and lower that puts upper over lower,
+** or -1. */
+static int crease_putting(const Build *b, int upper, int lower) {
+  const OrigamiModel *m = b->m;
+  for (int k = m->face_start[upper]; k < m->face_start[upper + 1]; k++) {
+    int up, lo;
+    if (crease_order(b, k, &up, &lo) && up == upper && lo == lower) return m->face_crease[k];
+  }
+  return -1;
+}
+
+/* Faces i over j over k over i in one place: the error at the first of the
+** three orders that was written (an `above` line), a note at each other
+** one; at the face when creases and inference made them all. */
+static void report_cycle(Build *b, int i, int j, int k) {
+  int f[4] = {i, j, k, i};
+  const struct Order *w[3];
+  int first = -1;
+  for (int e = 0; e < 3; e++) {
+    w[e] = written_order(b, f[e], f[e + 1]);
+    if (w[e] && first < 0) first = e;
+  }
+  diag_error(first >= 0 ? at(b, w[first]->loc) : face_at(b, i),
+             "faces %d, %d and %d all cover one place, where the orders form a cycle (%d over %d "
+             "over %d over %d): no folding stacks them so", i, j, k, i, j, k, i);
+  for (int e = 0; e < 3; e++) {
+    if (e == first) continue;
+    int c = w[e] || first < 0 ? -1 : crease_putting(b, f[e], f[e + 1]);
+    if (w[e]) diag_note(at(b, w[e]->loc), "%d over %d, part of the cycle, is written here", f[e], f[e + 1]);
+    else if (c >= 0)
+      diag_note(at(b, b->m->creases[c].loc), "%d over %d, part of the cycle: the %s crease %d-%d "
+                "between them", f[e], f[e + 1], b->m->creases[c].assignment == 'V' ? "valley" : "mountain",
+                b->m->creases[c].a, b->m->creases[c].b);
+    else if (first >= 0)
+      diag_note(face_at(b, f[e]), "%d over %d, part of the cycle, follows from the other orders",
+                f[e], f[e + 1]);
+  }
+}
+
 /* Three faces covering a common place must be ordered without a cycle
 ** there (cycles are fine between faces that never meet all at once: a
 ** twist's pleats). */
@@ -1284,10 +1331,7 @@ static void check_cycles(Build *b, const OrigamiOverlap *ov, int nov) {
       for (int c = deg[j]; c < deg[j + 1]; c++) {
         int k = adj[c];
         if (k < i || !origami_is_above(m, j, k) || !origami_is_above(m, k, i)) continue;
-        if (triple_area(&tr, i, j, k, min_area) > min_area)
-          diag_error(face_at(b, i), "faces %d, %d and %d all cover one place, where the orders form "
-                     "a cycle (%d over %d over %d over %d): no folding stacks them so", i, j, k, i,
-                     j, k, i);
+        if (triple_area(&tr, i, j, k, min_area) > min_area) report_cycle(b, i, j, k);
       }
     }
   fold_tris_free(&tr);

@@ -177,6 +177,23 @@ static FileVert *obj_vertices(const char *path, int *n) {
   return v;
 }
 
+/* The `f` lines of an OBJ file (each one face as written), or -1 when it
+** cannot be read again. */
+static long obj_face_lines(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) return -1;
+  long n = 0;
+  int c, col = 0, first = 0;   /* col: characters read on this line */
+  while ((c = getc(f)) != EOF) {
+    if (col == 0) first = c;
+    if (col == 1 && first == 'f' && (c == ' ' || c == '\t' || c == '\n' || c == '\r')) n++;
+    col = c == '\n' ? 0 : col + 1;
+  }
+  if (col == 1 && first == 'f') n++;   /* a last line of just `f` */
+  fclose(f);
+  return n;
+}
+
 /* The first file vertex within a float's rounding of q, or -1. */
 static int find_file_vertex(const FileVert *v, int n, Vec3 q) {
   double eps = 1e-6 * (1 + fabs(q.x) + fabs(q.y) + fabs(q.z));
@@ -255,7 +272,7 @@ static int import_file(const char *path, SceneGeometry *out, Arena *arena, char 
     return ok;
   }
   int ok = 1;
-  long nverts, nfaces, nidx;
+  long nverts = 0, nfaces = 0, nidx = 0;
   if (sc->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
     ok = failf(err, errlen, "the file holds no complete scene");
   else if (count_scene(sc, &nverts, &nfaces, &nidx), nfaces == 0)
@@ -268,10 +285,19 @@ static int import_file(const char *path, SceneGeometry *out, Arena *arena, char 
                MESH_IMPORT_MAX_FACES);
   else
     copy_scene(sc, nverts, nfaces, nidx, out, arena);
-  if (ok && has_suffix(path, ".obj")) obj_file_order(path, out);
+  long written = ok ? nfaces : 0;   /* the faces as the file has them */
+  if (ok && has_suffix(path, ".obj")) {
+    obj_file_order(path, out);
+    long lines = obj_face_lines(path);
+    if (lines > written) written = lines;
+  }
   aiReleaseImport(sc);
   if (ok && out->nfaces == 0)
     ok = failf(err, errlen, "the file holds no polygon with 3 distinct corners");
+  else if (ok && written > out->nfaces)   /* a note, not a failure: the rest still draws */
+    snprintf(err, errlen, "%ld of its %ld faces %s not imported (fewer than 3 distinct corners, or "
+             "unreadable): the mesh may show holes", written - out->nfaces, written,
+             written - out->nfaces == 1 ? "was" : "were");
   return ok;
 }
 
@@ -318,12 +344,12 @@ static _Noreturn void child_import(const char *path, int fd, int timeout_s) {
   char err[512] = "";
   int ok = import_file(path, &g, &a, err, sizeof err);
   int w = write_all(fd, &ok, sizeof ok);
+  int len = (int)strlen(err);
   if (!ok) {
-    int len = (int)strlen(err);
     w = w && write_all(fd, &len, sizeof len) && write_all(fd, err, (size_t)len);
   } else {
-    int head[4] = {g.nverts, g.nfaces, g.face_start[g.nfaces], g.face_uv != NULL};
-    w = w && write_all(fd, head, sizeof head) &&
+    int head[5] = {g.nverts, g.nfaces, g.face_start[g.nfaces], g.face_uv != NULL, len};
+    w = w && write_all(fd, head, sizeof head) && write_all(fd, err, (size_t)len) &&
         write_all(fd, g.verts, sizeof(Vec3) * (size_t)g.nverts) &&
         write_all(fd, g.face_start, sizeof(int) * (size_t)(g.nfaces + 1)) &&
         write_all(fd, g.face_index, sizeof(int) * (size_t)head[2]) &&
@@ -361,7 +387,7 @@ static int take(Reader *r, void *dst, size_t n) {
 static int unpack(const char *buf, size_t n, SceneGeometry *out, Arena *arena, char *err,
                   size_t errlen) {
   Reader r = {buf, n};
-  int ok, head[4], len;
+  int ok, head[5], len;
   if (!take(&r, &ok, sizeof ok)) return failf(err, errlen, "Assimp ended without an answer");
   if (!ok) {
     if (!take(&r, &len, sizeof len) || len < 0 || (size_t)len > r.left)
@@ -369,9 +395,13 @@ static int unpack(const char *buf, size_t n, SceneGeometry *out, Arena *arena, c
     return failf(err, errlen, "%.*s", len, r.p);
   }
   if (!take(&r, head, sizeof head) || head[0] < 1 || head[1] < 1 || head[2] < 3 || (head[3] & ~1) ||
-      r.left != sizeof(Vec3) * (size_t)head[0] + sizeof(int) * ((size_t)head[1] + 1 + (size_t)head[2]) +
+      head[4] < 0 || (size_t)head[4] >= errlen ||
+      r.left != (size_t)head[4] + sizeof(Vec3) * (size_t)head[0] +
+                    sizeof(int) * ((size_t)head[1] + 1 + (size_t)head[2]) +
                     (head[3] ? sizeof(Vec2) * (size_t)head[2] : 0))
     return failf(err, errlen, "Assimp ended without a whole answer");
+  take(&r, err, (size_t)head[4]);   /* the note on faces not imported, or "" */
+  err[head[4]] = 0;
   out->nverts = head[0];
   out->nfaces = head[1];
   out->verts = arena_alloc(arena, sizeof(Vec3) * (size_t)head[0]);

@@ -39,6 +39,9 @@
 ** Returns 0 on success; nonzero with a one-line reason in err (errlen
 ** bytes; it does not repeat the path, the caller names the file) for a
 ** missing, unreadable or malformed file, or one without polygons.
+** On success err is "" or a one-line note for a warning: faces the file
+** has (for OBJ, its `f` lines) that were not imported (an empty face, or
+** one with fewer than 3 distinct corners).
 ** (0 = success, as the evaluator's caller expects.) */
 int mesh_import_file(const char *path, SceneGeometry *out, Arena *arena, char *err,
                      size_t errlen);

@@ -753,6 +753,7 @@ static Value mesh_import(Eval *ev, const Str *path, const ENode *call) {
     ev_error(ev, bi_arg_loc(call, 0), "cannot import `%s`: %s", path->s, err);
     return val_err();
   }
+  if (err[0]) diag_warning(bi_arg_loc(call, 0), "`%s`: %s", path->s, err);
   g->loc = call->range;
   return val_ptr(V_GEOM, g);
 }

@@ -1192,9 +1192,13 @@ static int exec_call(Eval *ev, const ENode *s, Env *env) {
 }
 
 /* Run the children of the module call being executed (children();), or
-** only child i. Each child runs in the caller's environment. */
+** only child i. Each child runs in the caller's environment. Outside any
+** module call (at top level, or in a top-level call's own children) there
+** are none: a warning at `at`, once, since it draws nothing. */
 int ev_children(Eval *ev, int only, SrcRange at) {
   const ChildCtx *ctx = ev->children;
+  if (!ctx && !ev->warned_children++)
+    diag_warning(at, "`children()` is not inside a module's body: there are no children to run, so it does nothing");
   if (!ctx || !ctx->body) return 0;
   const ChildCtx *saved = ev->children;
   ev->children = ctx->outer;
@@ -1215,7 +1219,6 @@ int ev_children(Eval *ev, int only, SrcRange at) {
     }
   }
   ev->children = saved;
-  (void)at;
   return r;
 }
 

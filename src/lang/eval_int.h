@@ -166,6 +166,7 @@ struct Eval {
   int stop;                  /* a limit was hit: unwind without more errors */
   SrcRange where;            /* the list or builtin call allocating, for the memory limit */
   const ChildCtx *children;
+  int warned_children;       /* `children()` with no module call around it: said once */
   BlockVal *col;             /* the block collecting properties, NULL at top level */
   Mat4 xform;                /* what the enclosing transform statements do to the objects made
                                 (`translate(v) object { ... }`); identity at the top */

@@ -578,13 +578,19 @@ static int cv_vertices(Ctx *c, const Prop *p, const Row *r, void *t) {
   o->nverts = v->u.l->n;
   o->verts = arena_alloc(&c->ev->scene->arena, (size_t)(o->nverts + 1) * sizeof *o->verts);
   o->vert_loc = arena_alloc(&c->ev->scene->arena, (size_t)(o->nverts + 1) * sizeof *o->vert_loc);
+  int warned = 0;
   for (int k = 0; k < o->nverts; k++) {
     const Value *q = &v->u.l->v[k];
     if (q->kind != V_LIST || q->u.l->n < 2 || q->u.l->n > 3 || q->u.l->v[0].kind != V_NUM ||
-        q->u.l->v[1].kind != V_NUM) {
+        q->u.l->v[1].kind != V_NUM || (q->u.l->n == 3 && q->u.l->v[2].kind != V_NUM)) {
       ev_error(c->ev, p->vloc[0], "`vertices` in `paper`: vertex %d is not a point [x, y]", k);
       return -1;
     }
+    /* [x, y, 0] is a flat point too; another z would be a folded state */
+    if (q->u.l->n == 3 && q->u.l->v[2].u.n != 0 && !warned++)
+      diag_warning(p->vloc[0], "`vertices` in `paper`: vertex %d has z = %g, which is ignored: the "
+                   "paper lies flat in the xy-plane (its creases fold it)", k,
+                   q->u.l->v[2].u.n);
     o->verts[k] = (Vec2){q->u.l->v[0].u.n, q->u.l->v[1].u.n};
     o->vert_loc[k] = p->vloc[0];
   }
