@@ -247,6 +247,32 @@ void rast_list_free(RastTriList *list) {
 
 /* ---- scan conversion ----------------------------------------------------- */
 
+/* A row's span: of the n samples k = 0 .. n - 1 where edge i has the
+** value e[i] + k step[i], those inside all three (every value >= 0): the
+** triangle is convex, so they are one run [*k0, *k1) (empty: k0 = k1).
+** Worked out in integers from where each edge crosses zero, exactly the
+** samples a walk testing each one would find. */
+static void row_span(const int64_t e[3], const int64_t step[3], int n, int *k0, int *k1) {
+  int64_t lo = 0, hi = n;
+  for (int i = 0; i < 3; i++) {
+    if (step[i] > 0) {          /* rising: inside from its first k with e + k step >= 0 on */
+      if (e[i] < 0) {
+        int64_t k = (-e[i] + step[i] - 1) / step[i];
+        if (k > lo) lo = k;
+      }
+    } else if (step[i] < 0) {   /* falling: inside up to its last such k */
+      int64_t k = e[i] < 0 ? 0 : e[i] / -step[i] + 1;
+      if (k < hi) hi = k;
+    } else if (e[i] < 0) {      /* level and outside: no sample */
+      hi = 0;
+    }
+  }
+  if (lo > n) lo = n;
+  if (hi < lo) hi = lo;
+  *k0 = (int)lo;
+  *k1 = (int)hi;
+}
+
 void rast_triangle(const RastTri *t, const RastTarget *rt) {
   /* the triangle's pixel box, cut to the target's rectangle */
   int x0 = t->x0 > rt->x0 ? t->x0 : rt->x0, x1 = t->x1 < rt->x1 ? t->x1 : rt->x1;
@@ -271,19 +297,15 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
   int32_t *restrict objects = rt->object, *restrict faces = rt->face;
   float(*restrict bary)[2] = rt->bary;
   uint16_t *restrict count = rt->count;
+  const int64_t step[3] = {step_x0, step_x1, step_x2};
   for (int y = y0; y < y1; y++) {
-    int64_t e0 = row0, e1 = row1, e2 = row2;
+    const int64_t e[3] = {row0, row1, row2};
     float fy = (float)y + 0.5f - t->oy;             /* sample y relative to the plane origin */
-    int idx = (y - rt->oy) * rt->stride + (x0 - rt->ox), x = x0;
-    /* skip the samples left of the row's span: a sign bit set means outside some edge */
-    for (; x < x1 && (e0 | e1 | e2) < 0; x++, idx++) {
-      e0 += step_x0;                                /* one pixel right */
-      e1 += step_x1;
-      e2 += step_x2;
-    }
-    /* the span: inside all three edges; the triangle is convex, so the row
-    ** has one span, and it ends at the first sample outside */
-    for (; x < x1 && (e0 | e1 | e2) >= 0; x++, idx++) {
+    int n = x1 - x0, x, xe;
+    row_span(e, step, n, &x, &xe);                  /* the samples inside all three edges */
+    x += x0, xe += x0;
+    int idx = (y - rt->oy) * rt->stride + (x - rt->ox);
+    for (; x < xe; x++, idx++) {
       float fx = (float)x + 0.5f - ox;
       float z = z0 + z1 * fx + z2 * fy;             /* depth is affine in screen space */
       if (count) count[idx]++;
@@ -300,9 +322,6 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
         bary[idx][0] = b1w * inv;
         bary[idx][1] = b2w * inv;
       }
-      e0 += step_x0;
-      e1 += step_x1;
-      e2 += step_x2;
     }
     row0 += (int64_t)t->b[0] * SUB;                 /* one pixel down */
     row1 += (int64_t)t->b[1] * SUB;
