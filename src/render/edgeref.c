@@ -16,11 +16,22 @@
 
 #include "../base/mem.h"
 
-/* Samples are binned in tiles of LINE_REF_TILE x LINE_REF_TILE pixels:
-** a triangle is tested only at the samples of the tiles its box reaches,
-** so the work follows the length of the lines, not the resolution. */
-#define LINE_REF_TILE_BITS 3
-#define LINE_REF_TILE (1 << LINE_REF_TILE_BITS)
+/* Samples are binned in tiles of 2^bits x 2^bits pixels: a triangle is
+** tested only at the samples of the tiles its box reaches, so the work
+** follows the length of the lines, not the resolution. Small tiles test
+** fewer samples a triangle (a fine mesh's triangles are a pixel or two);
+** the tile tables grow with their number, so bits grows from
+** LINE_REF_TILE_BITS until there are at most LINE_REF_MAX_TILES. Which
+** triangle a sample finds does not depend on the tiles (every triangle
+** reaching a sample is tested there, in list order). */
+#define LINE_REF_TILE_BITS 1
+#define LINE_REF_MAX_TILES (1 << 20)
+
+static int tile_bits(int w, int h) {
+  int bits = LINE_REF_TILE_BITS;
+  while (bits < 8 && (double)((w >> bits) + 1) * ((h >> bits) + 1) > LINE_REF_MAX_TILES) bits++;
+  return bits;
+}
 
 /* ---- screen triangles ---------------------------------------------------- */
 
@@ -46,7 +57,7 @@ static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, 
 /* Which tiles hold samples: the summed-area table (tw + 1) x (th + 1) of
 ** them; NULL keeps every triangle. */
 typedef struct TileSat {
-  int tw, th;
+  int tw, th, bits;
   const int *sat;
   const int *tile;   /* tw * th: the tile's first sample, -1 = none */
 } TileSat;
@@ -96,8 +107,8 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
   double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
   double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
   if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
-  if (m && !sat_any(m, (int)fmax(0, xmin) >> LINE_REF_TILE_BITS, (int)fmax(0, ymin) >> LINE_REF_TILE_BITS,
-                    (int)fmin(w - 1, xmax) >> LINE_REF_TILE_BITS, (int)fmin(h - 1, ymax) >> LINE_REF_TILE_BITS))
+  if (m && !sat_any(m, (int)fmax(0, xmin) >> m->bits, (int)fmax(0, ymin) >> m->bits,
+                    (int)fmin(w - 1, xmax) >> m->bits, (int)fmin(h - 1, ymax) >> m->bits))
     return;   /* no edge near it: nothing will test against it */
   append_tri(l, p, ymin, ymax, obj, tri, factor, h);
 }
@@ -154,10 +165,10 @@ static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, cons
   if (c->x < xmin) xmin = c->x;
   if (c->x > xmax) xmax = c->x;
   if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
-  if (m && !sat_any(m, (int)(xmin > 0 ? xmin : 0) >> LINE_REF_TILE_BITS,
-                    (int)(ymin > 0 ? ymin : 0) >> LINE_REF_TILE_BITS,
-                    (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> LINE_REF_TILE_BITS,
-                    (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> LINE_REF_TILE_BITS))
+  if (m && !sat_any(m, (int)(xmin > 0 ? xmin : 0) >> m->bits,
+                    (int)(ymin > 0 ? ymin : 0) >> m->bits,
+                    (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> m->bits,
+                    (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> m->bits))
     return;
   float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
   append_tri(l, p, ymin, ymax, obj, tri, factor, h);   /* box and tiles checked */
@@ -184,7 +195,7 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
         clip_to_screen(c, w, h, &s.x, &s.y, &s.n);
         s.in = isfinite(s.x) && isfinite(s.y) && isfinite(s.n);   /* else the general path */
         if (s.in && s.x >= 0 && s.x < w && s.y >= 0 && s.y < h && sat)
-          s.tile = ((int)s.y >> LINE_REF_TILE_BITS) * sat->tw + ((int)s.x >> LINE_REF_TILE_BITS);
+          s.tile = ((int)s.y >> sat->bits) * sat->tw + ((int)s.x >> sat->bits);
       }
       sv[k] = s;
     }
@@ -267,9 +278,12 @@ static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, 
 ** step[k] of that edge's walk; near[k] and tri[k] are the nearest surface
 ** found there so far (0 and -1: none). */
 typedef struct Samples {
-  int tw, th;
+  int tw, th, bits;    /* tiles of 2^bits pixels (tile_bits) */
   int *first;          /* tw * th + 1: tile t holds samples [first[t], first[t + 1]) */
   int *tile;           /* tw * th: first[t], or -1 for a tile without samples (TileSat.tile) */
+  int *row_start;      /* th + 1: tile row ty's tiles with samples are row_tx[row_start[ty] ..
+                          row_start[ty + 1]), columns in order */
+  int *row_tx;
   int n;               /* at most LINE_MAX_STEPS */
   float *x, *y, *nr;
   float *near;
@@ -286,12 +300,13 @@ static void span_point(const LineSpan *s, int i, float *x, float *y, float *n) {
   *n = s->n0 + t * (s->n1 - s->n0);
 }
 
-/* The tile of point (x, y) of a tw-tile-wide grid over a w x h image. */
-static int tile_of(float x, float y, int tw, int w, int h) {
+/* The tile of point (x, y) of a tw-tile-wide grid of 2^bits-pixel tiles
+** over a w x h image. */
+static int tile_of(float x, float y, int tw, int bits, int w, int h) {
   int px = (int)x, py = (int)y;   /* spans are clipped to [0, w) x [0, h) */
   px = px < 0 ? 0 : px >= w ? w - 1 : px;
   py = py < 0 ? 0 : py >= h ? h - 1 : py;
-  return (py >> LINE_REF_TILE_BITS) * tw + (px >> LINE_REF_TILE_BITS);
+  return (py >> bits) * tw + (px >> bits);
 }
 
 /* Sample every step of every span of ref into *sm (counted, then placed
@@ -299,8 +314,9 @@ static int tile_of(float x, float y, int tw, int w, int h) {
 ** tiles that hold samples in *sat. */
 static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
   int w = ref->width, h = ref->height;
-  sm->tw = (w + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
-  sm->th = (h + LINE_REF_TILE - 1) >> LINE_REF_TILE_BITS;
+  sm->bits = tile_bits(w, h);
+  sm->tw = (w + (1 << sm->bits) - 1) >> sm->bits;
+  sm->th = (h + (1 << sm->bits) - 1) >> sm->bits;
   size_t nt = (size_t)sm->tw * sm->th;
   sm->first = xcalloc(nt + 1, sizeof *sm->first);
   sm->tile = xmalloc((nt ? nt : 1) * sizeof *sm->tile);
@@ -309,7 +325,7 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
     for (int k = 0; k < ref->span[i].nsteps; k++) {
       float x, y, n;
       span_point(&ref->span[i], k, &x, &y, &n);
-      sm->first[tile_of(x, y, sm->tw, w, h) + 1]++;
+      sm->first[tile_of(x, y, sm->tw, sm->bits, w, h) + 1]++;
     }
   int W = sm->tw + 1;
   *sat = xcalloc((size_t)W * (sm->th + 1), sizeof **sat);
@@ -323,6 +339,15 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
   }
   for (size_t t = 0; t < nt; t++) sm->first[t + 1] += sm->first[t];
   for (size_t t = 0; t < nt; t++) sm->tile[t] = sm->first[t + 1] > sm->first[t] ? sm->first[t] : -1;
+  sm->row_start = xmalloc(((size_t)sm->th + 1) * sizeof *sm->row_start);
+  sm->row_tx = xmalloc((nt ? nt : 1) * sizeof *sm->row_tx);
+  int nrow = 0;
+  for (int ty = 0; ty < sm->th; ty++) {
+    sm->row_start[ty] = nrow;
+    for (int tx = 0; tx < sm->tw; tx++)
+      if (sm->tile[ty * sm->tw + tx] >= 0) sm->row_tx[nrow++] = tx;
+  }
+  sm->row_start[sm->th] = nrow;
   size_t n = (size_t)sm->n + 1;
   sm->x = xmalloc(n * sizeof *sm->x);
   sm->y = xmalloc(n * sizeof *sm->y);
@@ -337,7 +362,7 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
     for (int k = 0; k < ref->span[i].nsteps; k++) {
       float x, y, nr;
       span_point(&ref->span[i], k, &x, &y, &nr);
-      int s = at[tile_of(x, y, sm->tw, w, h)]++;
+      int s = at[tile_of(x, y, sm->tw, sm->bits, w, h)]++;
       sm->x[s] = x;
       sm->y[s] = y;
       sm->nr[s] = nr;
@@ -349,7 +374,7 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
 }
 
 static void samples_free(Samples *sm) {
-  free(sm->first); free(sm->tile);
+  free(sm->first); free(sm->tile); free(sm->row_start); free(sm->row_tx);
   free(sm->x); free(sm->y); free(sm->nr); free(sm->near); free(sm->tri); free(sm->id); free(sm->step);
 }
 
@@ -398,32 +423,104 @@ static void tri_test(const ScreenTri *t, TriTest *q) {
   }
 }
 
+/* Pixels a sample beyond a triangle's exact extent may lie and still
+** pass the side tests (their rounding); only tiles so far off are
+** skipped, so the result is that of testing every sample of the box. */
+#define LINE_REF_SLACK 1.0f
+
+/* Boxes at least this many tiles wide go row by row: each row visits only
+** its tiles with samples that the triangle's extent over it reaches. */
+#define LINE_REF_WIDE 4
+
+/* The x extent [*lo, *hi] of triangle t over the rows y in [ya, yb]: its
+** corners there and where its sides cross y = ya and y = yb. */
+static void slab_extent(const ScreenTri *t, float ya, float yb, float *lo, float *hi) {
+  float l = INFINITY, h = -INFINITY;
+  for (int e = 0; e < 3; e++) {
+    int e1 = e == 2 ? 0 : e + 1;
+    float x0 = t->x[e], y0 = t->y[e], x1 = t->x[e1], y1 = t->y[e1];
+    if (y0 >= ya && y0 <= yb) { l = fminf(l, x0); h = fmaxf(h, x0); }
+    for (int k = 0; k < 2; k++) {
+      float y = k ? yb : ya;
+      if ((y0 - y) * (y1 - y) < 0) {   /* the side crosses the row's edge */
+        float x = x0 + (x1 - x0) * ((y - y0) / (y1 - y0));
+        l = fminf(l, x);
+        h = fmaxf(h, x);
+      }
+    }
+  }
+  *lo = l;
+  *hi = h;
+}
+
+/* The samples of tile (whose first sample is at index tile's) that t (as
+** q) covers, sides included, nearer than what was found there: t is the
+** samples' surface now. */
+static void test_tile(const TriTest *q, int k, Samples *sm, int tile) {
+  for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++) {
+    double x = sm->x[s], y = sm->y[s];
+    float n = (float)(q->na * x + q->nb * y + q->nc);
+    if (!(n > sm->near[s])) continue;   /* no nearer there (cheaper than the sides) */
+    if (q->a[0] * x + q->b[0] * y + q->c[0] < 0 || q->a[1] * x + q->b[1] * y + q->c[1] < 0 ||
+        q->a[2] * x + q->b[2] * y + q->c[2] < 0)
+      continue;
+    sm->near[s] = n;
+    sm->tri[s] = k;
+  }
+}
+
+/* The first index in row_tx[a, b) whose column is at least tx. */
+static int first_column(const int *row_tx, int a, int b, int tx) {
+  while (a < b) {
+    int m = a + (b - a) / 2;
+    if (row_tx[m] < tx) a = m + 1;
+    else b = m;
+  }
+  return a;
+}
+
 /* Triangle k (t) at the samples of tile rows [ty0, ty1) of its box: where
 ** it covers a sample (its sides included) nearer than what was found
-** there, it is the sample's surface. */
+** there, it is the sample's surface. A wide box goes row by row
+** (LINE_REF_WIDE), visiting the tiles with samples that the triangle's
+** extent over the row reaches (LINE_REF_SLACK wider). */
 static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, int w) {
   float xmin = fminf(t->x[0], fminf(t->x[1], t->x[2])), xmax = fmaxf(t->x[0], fmaxf(t->x[1], t->x[2]));
-  int tx0 = (int)fmaxf(0, xmin) >> LINE_REF_TILE_BITS, tx1 = (int)fminf((float)(w - 1), xmax) >> LINE_REF_TILE_BITS;
-  int ra = t->ymin >> LINE_REF_TILE_BITS, rb = t->ymax >> LINE_REF_TILE_BITS;
+  int bits = sm->bits;
+  int tx0 = (int)fmaxf(0, xmin) >> bits, tx1 = (int)fminf((float)(w - 1), xmax) >> bits;
+  int ra = t->ymin >> bits, rb = t->ymax >> bits;
   if (ra < ty0) ra = ty0;
   if (rb >= ty1) rb = ty1 - 1;
   if (tx0 > tx1 || ra > rb) return;
   TriTest q;
   int set = 0;   /* most triangles of a box reach no sample: set up on the first */
-  for (int ty = ra; ty <= rb; ty++)
-    for (int tx = tx0; tx <= tx1; tx++) {
-      int tile = ty * sm->tw + tx;
-      if (sm->tile[tile] < 0) continue;
-      if (!set) { tri_test(t, &q); set = 1; }
-      for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++) {
-        double x = sm->x[s], y = sm->y[s];
-        if (q.a[0] * x + q.b[0] * y + q.c[0] < 0 || q.a[1] * x + q.b[1] * y + q.c[1] < 0 ||
-            q.a[2] * x + q.b[2] * y + q.c[2] < 0)
-          continue;
-        float n = (float)(q.na * x + q.nb * y + q.nc);
-        if (n > sm->near[s]) { sm->near[s] = n; sm->tri[s] = k; }
+  if (tx1 - tx0 < LINE_REF_WIDE) {   /* a small box: look at each of its tiles */
+    for (int ty = ra; ty <= rb; ty++)
+      for (int tx = tx0; tx <= tx1; tx++) {
+        int tile = ty * sm->tw + tx;
+        if (sm->tile[tile] < 0) continue;
+        if (!set) { tri_test(t, &q); set = 1; }
+        test_tile(&q, k, sm, tile);
       }
+    return;
+  }
+  for (int ty = ra; ty <= rb; ty++) {
+    int a = sm->row_start[ty], b = sm->row_start[ty + 1];
+    if (a == b) continue;
+    int c0 = tx0, c1 = tx1;
+    float lo, hi;
+    slab_extent(t, (float)(ty << bits) - LINE_REF_SLACK, (float)((ty + 1) << bits) + LINE_REF_SLACK,
+                &lo, &hi);
+    lo -= LINE_REF_SLACK;
+    hi += LINE_REF_SLACK;
+    if (lo > hi) continue;   /* the row is beyond the triangle (NaN: keep the box) */
+    if (lo > (float)(c0 << bits)) c0 = (int)lo >> bits;
+    if (hi < (float)((c1 + 1) << bits)) c1 = hi < 0 ? -1 : (int)hi >> bits;
+    for (int i = first_column(sm->row_tx, a, b, c0); i < b && sm->row_tx[i] <= c1; i++) {
+      if (!set) { tri_test(t, &q); set = 1; }
+      test_tile(&q, k, sm, ty * sm->tw + sm->row_tx[i]);
     }
+  }
 }
 
 /* May triangle t push its depth back for an edge facing as facing? When it
@@ -456,7 +553,7 @@ static void ref_band(void *ctx, int band, int worker) {
   Samples *sm = j->sm;
   int ty0, ty1;
   band_tiles(sm->th, j->nbands, band, &ty0, &ty1);
-  int y0 = ty0 << LINE_REF_TILE_BITS, y1 = ty1 << LINE_REF_TILE_BITS;
+  int y0 = ty0 << sm->bits, y1 = ty1 << sm->bits;
   for (int i = 0; i < j->tris->n; i++) {
     const ScreenTri *t = &j->tris->t[i];
     if (t->ymax >= y0 && t->ymin < y1) test_tri(t, i, sm, ty0, ty1, j->ref->width);
@@ -506,7 +603,7 @@ int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs,
   Samples sm;
   int *sat;
   make_samples(&sm, ref, &sat);
-  TileSat ts = {sm.tw, sm.th, sat, sm.tile};
+  TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile};
   TriList tris = {0, 0, NULL};
   if (sm.n) collect_tris(&tris, edges, objs, width, height, &ts);
   RefJob job = {ref, &tris, edges, edge_info(edges), &sm, band_count(threads, sm.th), NULL};
