@@ -22,6 +22,7 @@
 #include "io/crease.h"
 #include "io/fold.h"
 #include "geom/refine.h"
+#include "geom/subdiv.h"
 #include "lang/ast.h"
 #include "lang/diag.h"
 #include "lang/eval.h"
@@ -636,6 +637,8 @@ static int cmd_render(const Options *o) {
   }
   prefetch_for_output(o);
   progress_begin(fs.count, o->quiet);
+  /* a static subdivided mesh is the same every frame: refine it once */
+  if (fs.count > 1) subdiv_cache_keep(SUBDIV_CACHE_FRAMES);
   int status = 0;
   for (int k = 0; k < fs.count && !status; k++) {
     int fr = fs.frames[k];
@@ -651,6 +654,7 @@ static int cmd_render(const Options *o) {
     }
   }
   progress_end();
+  subdiv_cache_clear();
   frames_free(&fs);
   return status;
 }

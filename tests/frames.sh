@@ -49,6 +49,21 @@ only "--only 5 renders frame 5 alone" only o_0005.png
 cp "$OUT/only/o_0005.png" "$OUT/only_0005.png"
 same "--only 5" only 0005
 
+# a subdivided mesh across frames (tests/data/frames/subdiv.npr): the
+# whole run keeps each refinement for the frames after it (subdiv.h's
+# cache) and refines again where the control mesh changes; each frame has
+# the bytes it has rendered alone (--only: one frame, no cache)
+mkdir -p "$OUT/subdiv"
+"$SUMI" render "$ROOT/tests/data/frames/subdiv.npr" --frames 0:4 --quiet -o "$OUT/subdiv/all_####.png" ||
+  bad "the subdivided run failed"
+s=1
+for fr in 0 1 2 3 4; do
+  "$SUMI" render "$ROOT/tests/data/frames/subdiv.npr" --frames 0:4 --only $fr --quiet -o "$OUT/subdiv/one_####.png"
+  cmp -s "$OUT/subdiv/all_000$fr.png" "$OUT/subdiv/one_000$fr.png" || s=0
+done
+cmp -s "$OUT/subdiv/all_0002.png" "$OUT/subdiv/all_0003.png" && s=0   # the pulled corner shows
+if [ "$s" = 1 ]; then ok; else bad "subdivided frames differ from the same frames rendered alone"; fi
+
 # --resume: whole frames are skipped (their files untouched), one cut
 # short and one missing are rendered again, to the whole run's bytes
 mkdir -p "$OUT/resume"

@@ -273,6 +273,149 @@ Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRe
   return m;
 }
 
+/* ---- the cache across frames ------------------------------------------- */
+
+/* One refined mesh (NULL while lent to a frame) and a copy of everything
+** it was made from. */
+typedef struct CacheEntry {
+  int level, boundary;
+  char *scheme;                /* NULL: catmark */
+  int nverts, nfaces, nindex, ncreases, ncorners;
+  Vec3 *verts;
+  int *face_start, *face_index;
+  int *crease_v;               /* a, b per crease */
+  double *crease_s;
+  int *corner_v;
+  double *corner_s;
+  Mesh *mesh;
+} CacheEntry;
+
+static struct {
+  int max;                     /* entries kept; 0: no cache */
+  int n, next;                 /* entries held; the one replaced next when full */
+  CacheEntry *e;
+} cache;
+
+static void *copy_of(const void *p, size_t bytes) {
+  void *q = xmalloc(bytes + 1);
+  if (bytes) memcpy(q, p, bytes);
+  return q;
+}
+
+static int same_bytes(const void *a, const void *b, size_t bytes) {
+  return bytes == 0 || memcmp(a, b, bytes) == 0;
+}
+
+/* Is e the refinement of g with boundary? Every input compared exactly. */
+static int entry_matches(const CacheEntry *e, const SceneGeometry *g, SumiOsdBoundary boundary) {
+  if (e->level != g->subdiv_level || e->boundary != (int)boundary || e->nverts != g->nverts ||
+      e->nfaces != g->nfaces || e->ncreases != g->ncreases || e->ncorners != g->ncorners)
+    return 0;
+  if ((e->scheme == NULL) != (g->subdiv_scheme == NULL) ||
+      (e->scheme && strcmp(e->scheme, g->subdiv_scheme)))
+    return 0;
+  int nindex = g->nfaces > 0 ? g->face_start[g->nfaces] : 0;
+  if (e->nindex != nindex || !same_bytes(e->verts, g->verts, sizeof(Vec3) * (size_t)g->nverts) ||
+      !same_bytes(e->face_start, g->face_start, sizeof(int) * (size_t)(g->nfaces + 1)) ||
+      !same_bytes(e->face_index, g->face_index, sizeof(int) * (size_t)nindex))
+    return 0;
+  for (int c = 0; c < g->ncreases; c++)
+    if (e->crease_v[2 * c] != g->creases[c].a || e->crease_v[2 * c + 1] != g->creases[c].b ||
+        memcmp(&e->crease_s[c], &g->creases[c].sharpness, sizeof(double)))
+      return 0;
+  for (int c = 0; c < g->ncorners; c++)
+    if (e->corner_v[c] != g->corners[c].v || memcmp(&e->corner_s[c], &g->corners[c].sharpness, sizeof(double)))
+      return 0;
+  return 1;
+}
+
+static void entry_free(CacheEntry *e) {
+  free(e->scheme);
+  free(e->verts);
+  free(e->face_start);
+  free(e->face_index);
+  free(e->crease_v);
+  free(e->crease_s);
+  free(e->corner_v);
+  free(e->corner_s);
+  mesh_destroy(e->mesh);
+  memset(e, 0, sizeof *e);
+}
+
+/* The entry holding g's refinement with boundary (lent out or not), or -1. */
+static int entry_find(const SceneGeometry *g, SumiOsdBoundary boundary) {
+  for (int i = 0; i < cache.n; i++)
+    if (entry_matches(&cache.e[i], g, boundary)) return i;
+  return -1;
+}
+
+/* Keep m as the refinement of g (the oldest entry goes when the cache is
+** full); the cache owns m. */
+static void entry_store(const SceneGeometry *g, SumiOsdBoundary boundary, Mesh *m) {
+  CacheEntry *e;
+  if (cache.n < cache.max) e = &cache.e[cache.n++];
+  else {
+    e = &cache.e[cache.next];
+    cache.next = (cache.next + 1) % cache.max;
+    entry_free(e);
+  }
+  int nindex = g->nfaces > 0 ? g->face_start[g->nfaces] : 0;
+  e->level = g->subdiv_level;
+  e->boundary = (int)boundary;
+  e->scheme = g->subdiv_scheme ? copy_of(g->subdiv_scheme, strlen(g->subdiv_scheme) + 1) : NULL;
+  e->nverts = g->nverts;
+  e->nfaces = g->nfaces;
+  e->nindex = nindex;
+  e->ncreases = g->ncreases;
+  e->ncorners = g->ncorners;
+  e->verts = copy_of(g->verts, sizeof(Vec3) * (size_t)g->nverts);
+  e->face_start = copy_of(g->face_start, sizeof(int) * (size_t)(g->nfaces + 1));
+  e->face_index = copy_of(g->face_index, sizeof(int) * (size_t)nindex);
+  e->crease_v = xmalloc(sizeof(int) * (size_t)(2 * g->ncreases + 1));
+  e->crease_s = xmalloc(sizeof(double) * (size_t)(g->ncreases + 1));
+  for (int c = 0; c < g->ncreases; c++) {
+    e->crease_v[2 * c] = g->creases[c].a;
+    e->crease_v[2 * c + 1] = g->creases[c].b;
+    e->crease_s[c] = g->creases[c].sharpness;
+  }
+  e->corner_v = xmalloc(sizeof(int) * (size_t)(g->ncorners + 1));
+  e->corner_s = xmalloc(sizeof(double) * (size_t)(g->ncorners + 1));
+  for (int c = 0; c < g->ncorners; c++) {
+    e->corner_v[c] = g->corners[c].v;
+    e->corner_s[c] = g->corners[c].sharpness;
+  }
+  e->mesh = m;
+}
+
+void subdiv_cache_keep(int entries) {
+  subdiv_cache_clear();
+  cache.max = entries > 0 ? entries : 0;
+  cache.e = cache.max ? xcalloc((size_t)cache.max, sizeof *cache.e) : NULL;
+}
+
+void subdiv_cache_clear(void) {
+  for (int i = 0; i < cache.n; i++) entry_free(&cache.e[i]);
+  free(cache.e);
+  memset(&cache, 0, sizeof cache);
+}
+
 Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
+  int i = entry_find(g, boundary);
+  if (i >= 0 && cache.e[i].mesh) {   /* lent out until subdiv_mesh_done */
+    Mesh *m = cache.e[i].mesh;
+    cache.e[i].mesh = NULL;
+    return m;
+  }
   return subdiv_mesh_ex(g, boundary, NULL, err, errlen);
+}
+
+void subdiv_mesh_done(const SceneGeometry *g, SumiOsdBoundary boundary, Mesh *m) {
+  if (!cache.max) {
+    mesh_destroy(m);
+    return;
+  }
+  int i = entry_find(g, boundary);
+  if (i < 0) entry_store(g, boundary, m);
+  else if (cache.e[i].mesh) mesh_destroy(m);   /* a second object of the same inputs */
+  else cache.e[i].mesh = m;
 }

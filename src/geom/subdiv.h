@@ -41,8 +41,23 @@ int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, si
 /* Refine g (GEOM_MESH, subdiv_level >= 1) and triangulate the result.
 ** tri_face is the base polygon each triangle lies in; uv is NULL. The
 ** caller owns the result (mesh_destroy). NULL and a reason in err on
-** failure. */
+** failure. With subdiv_cache_keep, the cache's refinement of the same
+** inputs (every one compared exactly) is handed over instead, the same
+** mesh bit for bit; give it back with subdiv_mesh_done. */
 Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen);
+
+/* Across the frames of an animation: keep the refinements of the last
+** `entries` inputs subdiv_mesh was asked for (each with a copy of its
+** inputs), so a mesh that does not change is refined once. 0 keeps none,
+** as at start. subdiv_cache_clear frees them. */
+void subdiv_cache_keep(int entries);
+void subdiv_cache_clear(void);
+/* Refinements `sumi render --frames` keeps (a scene's subdivided objects
+** beyond that are refined again each frame). */
+#define SUBDIV_CACHE_FRAMES 8
+/* The caller is done with m, subdiv_mesh(g, boundary)'s result, unchanged:
+** the cache keeps it for the next frame (with no cache, it is destroyed). */
+void subdiv_mesh_done(const SceneGeometry *g, SumiOsdBoundary boundary, Mesh *m);
 
 /* The same, also handing back the bridge's refinement (positions at the
 ** level, faces, tags) into *refined when it is not NULL; the caller frees

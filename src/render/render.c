@@ -195,6 +195,7 @@ static void object_to_world(RenderObject *o) {
   double det = v3_dot(v3(M.m[0][0], M.m[1][0], M.m[2][0]),
                       v3_cross(v3(M.m[0][1], M.m[1][1], M.m[2][1]), v3(M.m[0][2], M.m[1][2], M.m[2][2])));
   if (det < 0) {   /* a mirroring transform: keep the winding counter-clockwise */
+    o->subdiv_kept = 0;   /* changed: not the refinement the cache knows */
     for (int t = 0; t < m->ntris; t++) {
       int k = m->tri[t][1];
       m->tri[t][1] = m->tri[t][2];
@@ -298,6 +299,7 @@ static int subdivide_object(RenderObject *o) {
   o->mesh = subdiv_mesh(g, boundary, err, sizeof err);
   stats_record("subdiv", stats_now() - t0);
   int ok = o->mesh != NULL;
+  o->subdiv_kept = ok;
   if (!ok) {
     diag_error(g->loc, "%s", err);
     o->mesh = mesh_create(0, 0);
@@ -469,7 +471,13 @@ int render_prepare(const Scene *s, const RenderOptions *o, RenderFrame *f) {
 void render_frame_free(RenderFrame *f) {
   for (int i = 0; i < f->nobjects; i++) {
     RenderObject *o = &f->objects[i];
-    if (o->mesh) mesh_destroy(o->mesh);
+    if (o->subdiv_kept) {   /* back to the cache across frames (subdiv.h) */
+      SumiOsdBoundary boundary;
+      subdiv_boundary_parse(o->src->geometry->subdiv_boundary, &boundary);
+      subdiv_mesh_done(o->src->geometry, boundary, o->mesh);
+    } else if (o->mesh) {
+      mesh_destroy(o->mesh);
+    }
     free(o->wpos);
     free(o->wnrm);
     free(o->wcnrm);

@@ -163,6 +163,8 @@ typedef struct RenderObject {
   const RenderStyle *style;
   Mesh *mesh;                  /* owned; topology built; winding is
                                   counter-clockwise in world space too */
+  int subdiv_kept;             /* mesh is subdiv_mesh's, unchanged: freeing the frame gives
+                                  it back to the cache across frames (subdiv_mesh_done) */
   Mat4 object_to_world;
   float (*wpos)[3];            /* mesh->nverts world positions */
   float (*wnrm)[3];            /* mesh->nverts world unit normals */
