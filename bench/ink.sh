@@ -10,7 +10,12 @@
 # printed, then the frame (prepare through the last stage drawn: no
 # parsing, no PNG encoding) and the ink stages alone (quantise, diffuse,
 # box, canvas). Aims: the interior under 15 ms, the painting under 40 ms.
-# Skipped when assimp-testmodels is not installed.
+# Skipped when assimp-testmodels is not installed. Wall times on a shared
+# machine are noisy: CALLGRIND=1 adds, per scene, one run under callgrind
+# (one thread) and each stage's instructions, the inclusive cost of its
+# function (render_prepare, render_frame: the tile pass, paper_create,
+# ink_diffuse, ink_box_filter_rect, the rest of canvas_paint: quantise and
+# composite, line_render_frame), and the frame's (render_scene).
 #
 #   sh bench/ink.sh [path/to/sumi]
 set -e
@@ -25,6 +30,7 @@ median() { sort -n | awk '{ v[NR] = $1 } END { if (NR == 0) print "-"; else if (
 
 # run SCENE TAG: RUNS renders at 1920x1080, one thread, stats into $DIR/ink_TAG_i.txt
 run() {
+  rm -f "$DIR"/ink_"$2"_*.txt   # an earlier invocation's runs, maybe more of them
   i=1
   while [ "$i" -le "$RUNS" ]; do
     "$SUMI" render "$1" -o "$DIR/ink_$2.png" --threads 1 --stats 2>"$DIR/ink_$2_$i.txt" >/dev/null
@@ -64,3 +70,29 @@ report interior "15 ms"
 run bench/ink_painting.npr painting
 echo "ink painting (interior, xuan sheet, brush strokes), Wuson 1920x1080, 1 thread, median of $RUNS:"
 report painting "40 ms"
+
+[ -n "${CALLGRIND:-}" ] || exit 0
+for tag in interior painting; do
+  npr=bench/ink_wuson.npr; [ "$tag" = painting ] && npr=bench/ink_painting.npr
+  out="$DIR/ink_$tag.callgrind"
+  valgrind --tool=callgrind --callgrind-out-file="$out" \
+    "$SUMI" render "$npr" -o "$DIR/ink_$tag.cg.png" --threads 1 --quiet >/dev/null 2>"$DIR/ink_$tag.callgrind.log"
+  echo "ink $tag, instructions (callgrind, one thread):"
+  callgrind_annotate --inclusive=yes "$out" 2>/dev/null | python3 -c '
+import re, sys
+want = {"render_prepare": "prepare", "render_frame": "tile pass", "paper_create": "paper",
+        "ink_diffuse": "ink diffuse", "ink_box_filter_rect": "ink box", "canvas_paint": "canvas",
+        "line_render_frame": "lines", "render_scene": "frame"}
+got = {}
+for line in sys.stdin:
+    m = re.match(r"\s*([\d,]+)\s+\([^)]*\)\s+(\S+):(\S+)", line)
+    if not m: continue
+    fn = m.group(3).split("'"'"'")[0]
+    if fn in want and want[fn] not in got: got[want[fn]] = int(m.group(1).replace(",", ""))
+rest = got.get("canvas", 0) - sum(got.get(k, 0) for k in ("paper", "ink diffuse", "ink box"))
+got["canvas"] = rest
+names = {"canvas": "quantise+composite"}
+for k in ["prepare", "tile pass", "paper", "ink diffuse", "ink box", "canvas", "lines", "frame"]:
+    if k in got: print("  %-18s %8.1f M" % (names.get(k, k), got[k] / 1e6))
+'
+done
