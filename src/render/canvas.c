@@ -151,19 +151,22 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
   }
 }
 
-/* One sample a pixel: the sample is the pixel. Every pixel is written:
-** rows of paper at once, then the pixels objects show in, a run of one
-** triangle at a time. */
+/* One sample a pixel: the sample is the pixel. Every pixel is written
+** once: a run of background as bare paper, of one triangle of an ink
+** object from its greys, and a pixel of another object off the canvas. */
 static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
                          InkArea *a) {
   for (int y = 0; y < c->height; y++) {
     const int32_t *obj = g->object + (size_t)y * g->width, *face = g->face + (size_t)y * g->width;
     size_t row = (size_t)y * c->width;
-    paper_run(c, y, 0, c->width);
     int first = -1, last = -1;   /* the row's ink pixels */
     for (int x = 0, e; x < c->width; x = e) {
       e = x + 1;
-      if (obj[x] < 0) continue;
+      if (obj[x] < 0) {   /* a run of background: bare paper */
+        while (e < c->width && obj[e] < 0) e++;
+        paper_run(c, y, x, e);
+        continue;
+      }
       int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
       if (si < 0) { put_off(c, row + x, a); continue; }
       while (e < c->width && obj[e] == obj[x] && face[e] == face[x]) e++;
@@ -330,7 +333,9 @@ static int layer_pixel(const Image *L, size_t p, float lay[4]) {
 ** of full ink, 0..256. */
 static inline int density(float ink, float a) {
   float v = ink * (256.0f / 255) * a + 0.5f;
-  return v < 256 ? (v > 0 ? (int)v : 0) : 256;
+  v = v < 256 ? v : 256;   /* a NaN too */
+  v = v > 0 ? v : 0;       /* clamped as selects, so a loop of them runs in lanes */
+  return (int)v;
 }
 
 /* The densities of n pixels of ink I on paper of absorbency A (NULL: 1)
@@ -359,7 +364,11 @@ static void mix_run(const uint8_t *restrict m0, const uint8_t *restrict m1, cons
 /* The same on paper of one colour: its three tables' rows packed, a
 ** pixel's codes in the low three bytes of t[d]. */
 static void mix_flat(const uint32_t *restrict t, const int *restrict D, uint8_t *restrict o, int n) {
-  for (int i = 0; i < n; i++, o += 3) {
+  int i = 0;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  for (; i + 1 < n; i++, o += 3) memcpy(o, &t[D[i]], 4);   /* the 4th byte: the next pixel's, written next */
+#endif
+  for (; i < n; i++, o += 3) {
     uint32_t v = t[D[i]];
     o[0] = (uint8_t)v;
     o[1] = (uint8_t)(v >> 8);
