@@ -256,7 +256,8 @@ static float step_value(const AaFrame *af, const RastTarget *rt, const AaSteps *
   if (st->seen[m] == st->stamp) return st->memo[m];
   const RenderObject *o = &af->f->objects[rt->object[i]];
   float p[3], n[3], v[3];
-  shade_surface_at(st->view, o, rt->face[i], rt->bary[i][0], rt->bary[i][1], p, n, v);
+  shade_surface_at(st->view, o, rt->face[i], rt->bary[i][0], rt->bary[i][1], rt->ox + i % rt->stride,
+                   rt->oy + i / rt->stride, p, n, v);
   st->seen[m] = st->stamp;
   return st->memo[m] = shade_step_value(af->f, o, rt->face[i], t, p, n, v);
 }

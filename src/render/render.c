@@ -1294,9 +1294,7 @@ void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Imag
   job.progress = p->progress;
   job.progress_total = p->total;
   atomic_init(&job.done, p->done);
-  job.view.ortho = f->camera.kind == CAMERA_ORTHO;
-  set3(job.view.eye, f->camera.eye);
-  set3(job.view.back, v3_mul(f->camera.forward, -1));
+  shade_view_init(&job.view, &f->camera, N);
   job.span = xmalloc((size_t)f->nstyles * sizeof *job.span);
   for (int i = 0; i < f->nstyles; i++) {
     job.span[i] = shade_span_model(f->styles[i].kind);

@@ -224,6 +224,21 @@ int shade_prepare_object(const RenderFrame *f, RenderObject *o) {
 
 /* ---- rows of samples ---------------------------------------------------- */
 
+void shade_view_init(ShadeView *view, const Camera *c, int samples) {
+  double t = c->kind == CAMERA_PERSPECTIVE ? tan(c->fov * M_PI / 360) : 0, aspect = (double)c->width / c->height;
+  *view = (ShadeView){.ortho = c->kind == CAMERA_ORTHO};
+  const Vec3 *axes[3] = {&c->forward, &c->right, &c->up};
+  float *to[3] = {view->fwd, view->right, view->up};
+  for (int a = 0; a < 3; a++) {
+    to[a][0] = (float)axes[a]->x; to[a][1] = (float)axes[a]->y; to[a][2] = (float)axes[a]->z;
+  }
+  for (int i = 0; i < 3; i++) view->back[i] = -view->fwd[i];
+  view->cx = (float)(t * aspect);                              /* ndc x = 1 at the right edge */
+  view->kx = (float)(2 * t * aspect / ((double)c->width * samples));
+  view->cy = (float)t;
+  view->ky = (float)(2 * t / ((double)c->height * samples));
+}
+
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n) {
   int m = n + SHADE_LANES;   /* spare lanes: shade_row_rebuild writes up to 3 past a run */
   float *pl = xcalloc(14 * (size_t)m, sizeof *pl);   /* p, n, v, uv, base: one block, px first */
@@ -242,8 +257,21 @@ void shade_row_free(ShadeRow *r) { free(r->px); }
 ** view vector. A fixed number of lanes and restrict planes, so the compiler
 ** runs the group side by side (SSE); each lane's arithmetic is that of one
 ** sample alone, in the same order. */
+/* A row's view rays: sample sx's is base + ((sx + 0.5) kx - cx) right. */
+typedef struct RayRow { float base[3], right[3], kx, cx; int sx0; } RayRow;
+
+static RayRow ray_row(const ShadeView *view, int sx0, int sy) {
+  RayRow rr = {.kx = view->kx, .cx = view->cx, .sx0 = sx0};
+  float ay = view->cy - ((float)sy + 0.5f) * view->ky;
+  for (int c = 0; c < 3; c++) {
+    rr.base[c] = view->fwd[c] + ay * view->up[c];
+    rr.right[c] = view->right[c];
+  }
+  return rr;
+}
+
 static inline __attribute__((always_inline)) void rebuild_group(
-    const float *const c[6], const float eye[3], float sign, int k, const float *restrict b12,
+    const float *const c[6], const RayRow *rr, float sign, int k, const float *restrict b12,
     float *restrict px, float *restrict py, float *restrict pz, float *restrict nx,
     float *restrict ny, float *restrict nz, float *restrict vx, float *restrict vy,
     float *restrict vz) {
@@ -258,9 +286,11 @@ static inline __attribute__((always_inline)) void rebuild_group(
     float d = b0 * n0[2] + b1 * n1[2] + b2 * n2[2];
     float nn = a * a + b * b + d * d;
     float sn = (nn > 0 ? 1 / sqrtf(nn) : 0) * sign;   /* a zero normal stays zero */
-    float ex = eye[0] - x, ey = eye[1] - y, ez = eye[2] - z;   /* toward the eye */
+    float ax = ((float)(rr->sx0 + k + j) + 0.5f) * rr->kx - rr->cx;   /* the ray, reversed */
+    float ex = rr->base[0] + ax * rr->right[0], ey = rr->base[1] + ax * rr->right[1],
+          ez = rr->base[2] + ax * rr->right[2];
     float vv = ex * ex + ey * ey + ez * ez;
-    float sv = vv > 0 ? 1 / sqrtf(vv) : 0;
+    float sv = vv > 0 ? -1 / sqrtf(vv) : 0;
     px[k + j] = x; py[k + j] = y; pz[k + j] = z;
     nx[k + j] = a * sn; ny[k + j] = b * sn; nz[k + j] = d * sn;
     vx[k + j] = ex * sv; vy[k + j] = ey * sv; vz[k + j] = ez * sv;
@@ -269,18 +299,18 @@ static inline __attribute__((always_inline)) void rebuild_group(
 
 /* Samples k0..k1-1 of a row, group by group; the last group's lanes past
 ** k1 read (0, 0) and write the planes' spare samples past the run. */
-static inline void rebuild_run(const float *const c[6], const float eye[3], float sign, int k0,
+static inline void rebuild_run(const float *const c[6], const RayRow *rr, float sign, int k0,
                                int k1, const float *restrict bary, float *restrict px,
                                float *restrict py, float *restrict pz, float *restrict nx,
                                float *restrict ny, float *restrict nz, float *restrict vx,
                                float *restrict vy, float *restrict vz) {
   int k = k0;
   for (; k + SHADE_LANES <= k1; k += SHADE_LANES)
-    rebuild_group(c, eye, sign, k, bary + 2 * k, px, py, pz, nx, ny, nz, vx, vy, vz);
+    rebuild_group(c, rr, sign, k, bary + 2 * k, px, py, pz, nx, ny, nz, vx, vy, vz);
   if (k == k1) return;
   float tail[2 * SHADE_LANES] = {0};
   for (int j = 0; j < 2 * (k1 - k); j++) tail[j] = bary[2 * k + j];
-  rebuild_group(c, eye, sign, k, tail, px, py, pz, nx, ny, nz, vx, vy, vz);
+  rebuild_group(c, rr, sign, k, tail, px, py, pz, nx, ny, nz, vx, vy, vz);
 }
 
 void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o, int face,
@@ -293,7 +323,8 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
   }
   float sign = o->backfacing[face] ? -1.0f : 1.0f;   /* a back face's normal turns around */
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
-  rebuild_run(c, view->eye, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
+  RayRow rr = ray_row(view, r->sx0, r->sy);
+  rebuild_run(c, &rr, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
               r->vy, r->vz);
   if (view->ortho)   /* the one unit view vector */
     for (int j = k0; j < k1; j++) {
@@ -311,7 +342,7 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
 }
 
 void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, float b1, float b2,
-                      float p[3], float n[3], float v[3]) {
+                      int sx, int sy, float p[3], float n[3], float v[3]) {
   const int *t = o->mesh->tri[face];
   const float *p0 = o->wpos[t[0]], *p1 = o->wpos[t[1]], *p2 = o->wpos[t[2]];
   const float *n0 = o->wnrm[t[0]], *n1 = o->wnrm[t[1]], *n2 = o->wnrm[t[2]];
@@ -327,8 +358,10 @@ void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, fl
   float sn = (nn > 0 ? 1 / sqrtf(nn) : 0) * (o->backfacing[face] ? -1.0f : 1.0f);
   n[0] *= sn; n[1] *= sn; n[2] *= sn;
   if (view->ortho) { v[0] = view->back[0]; v[1] = view->back[1]; v[2] = view->back[2]; return; }
-  v[0] = view->eye[0] - p[0]; v[1] = view->eye[1] - p[1]; v[2] = view->eye[2] - p[2];
-  float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], sv = vv > 0 ? 1 / sqrtf(vv) : 0;
+  RayRow rr = ray_row(view, sx, sy);   /* as rebuild_group makes it */
+  float ax = ((float)sx + 0.5f) * rr.kx - rr.cx;
+  for (int c = 0; c < 3; c++) v[c] = rr.base[c] + ax * rr.right[c];
+  float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], sv = vv > 0 ? -1 / sqrtf(vv) : 0;
   v[0] *= sv; v[1] *= sv; v[2] *= sv;
 }
 

@@ -101,14 +101,25 @@ float shade_step_value(const RenderFrame *f, const RenderObject *o, int face, in
 void shade_row_alloc(ShadeRow *r, const RenderFrame *f, int n);
 void shade_row_free(ShadeRow *r);
 
-/* The camera as the rebuild needs it: the eye, or for an orthographic
-** camera the one view vector. */
+/* The camera as the rebuild needs it. The unit view vector v (toward the viewer) of a sample. Perspective:
+** minus the camera's ray through the sample's centre (sx + 0.5, sy + 0.5)
+** of the frame's sample grid, ray = fwd + ax right + ay up with
+** ax = (sx + 0.5) kx - cx and ay = cy - (sy + 0.5) ky, normalised. That is
+** the direction from the point seen there to the eye, without subtracting
+** two nearly equal positions: a camera 1e-9 from a surface (eye - p far
+** below the points' float rounding) keeps its n.v edge test. Ortho: v =
+** back (-forward, unit). */
 typedef struct ShadeView {
   int ortho;
-  float eye[3];        /* perspective: v = normalise(eye - p) */
-  float back[3];       /* ortho: v = back (-forward, unit) */
+  float fwd[3], right[3], up[3];
+  float kx, cx, ky, cy;
+  float back[3];
   int want_uv;         /* some style's model reads uv */
 } ShadeView;
+
+/* The view of camera c over a grid of samples x samples a pixel
+** (want_uv cleared). */
+void shade_view_init(ShadeView *view, const Camera *c, int samples);
 
 /* Rebuild samples k0..k1-1 of r, which all show triangle face of object o,
 ** into r's planes: the point, the unit normal (turned toward the viewer on
@@ -124,7 +135,7 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
 ** triangle face of o is at barycentrics (b1, b2), as shade_row_rebuild
 ** makes them (to rounding). */
 void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, float b1, float b2,
-                      float p[3], float n[3], float v[3]);
+                      int sx, int sy, float p[3], float n[3], float v[3]);
 
 /* The base colour of samples k0..k1-1 of r, which show triangle face of
 ** object o whose style has an image map (RenderStyle.image), into r's
