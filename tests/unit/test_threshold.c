@@ -362,6 +362,76 @@ TEST(coverage_image) {
   check_coverage(LAYER_IMAGE, path);
 }
 
+/* Strength (section 5): T' = x + s (T - x) pixel for pixel, with s =
+** strength x facing(n.v) x light(x). The square faces the camera (n.v =
+** 1) and its smooth term is x everywhere, so each pixel of a blended
+** render is the plain one moved toward x by the factor the curves give. */
+static void check_strength(double x, double strength, const double *facing, int nfacing,
+                           const double *light, int nlight, double s) {
+  Scene a, b;
+  square_scene(&a, x, 2.0, 96);
+  add_layer(&a, LAYER_HATCH);
+  square_scene(&b, x, 2.0, 96);
+  add_layer(&b, LAYER_HATCH);
+  ShadeThreshold *th = &b.styles[0].shade.threshold;
+  th->strength = strength;
+  th->facing = (double *)facing; th->nfacing = nfacing;
+  th->light = (double *)light; th->nlight = nlight;
+  Image *ia = render_image(&a, 2), *ib = render_image(&b, 2);
+  double worst = 0, spread = 0;
+  for (int y = ia->height / 8; y < ia->height * 7 / 8; y++)
+    for (int i = ia->width / 8; i < ia->width * 7 / 8; i++) {
+      size_t k = ((size_t)y * ia->width + i) * ia->channels;
+      worst = fmax(worst, fabs(ib->data[k] - (x + s * (ia->data[k] - x))));
+      spread = fmax(spread, fabs(ia->data[k] - x));
+    }
+  CHECK(worst < 1e-4);
+  CHECK(spread > 0.2);   /* the plain render is thresholded: far from x somewhere */
+  image_destroy(ia);
+  image_destroy(ib);
+  arena_free(&a.arena);
+  arena_free(&b.arena);
+}
+
+TEST(strength_blends_toward_the_smooth_shade) {
+  static const double fig5_facing[] = {1, 0.2}, fig5_light[] = {0, 1, 1, 0};
+  check_strength(0.6, 0.3, NULL, 0, NULL, 0, 0.3);                 /* a constant strength */
+  check_strength(0.6, 1, fig5_facing, 2, NULL, 0, 0.2);            /* facing at n.v = 1: its last value */
+  check_strength(0.6, 1, NULL, 0, fig5_light, 4, 1);               /* light at 0.6: between 1 and 1 */
+  check_strength(0.9, 1, NULL, 0, fig5_light, 4, 0.3);             /* at 0.9: 1 + 0.7 (0 - 1) */
+  check_strength(0.9, 0.5, fig5_facing, 2, fig5_light, 4, 0.03);   /* all three multiply */
+}
+
+/* Ramps work as in toon over textured thresholds: a ramp of K colours
+** gives K - 1 bands, and a filtered step lands between two neighbouring
+** colours. Shade 0.6 over [black, red, white] is the second band (ramp
+** position 1 + bright fraction of the band's 0.2): red at least, white
+** over ~0.2 of the area. */
+TEST(ramp_over_thresholds) {
+  Scene s;
+  square_scene(&s, 0.6, 2.0, 128);
+  add_layer(&s, LAYER_HATCH);
+  static Color ramp[3] = {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 1, 1, 1}};
+  s.styles[0].shade.toon.ramp = ramp;
+  s.styles[0].shade.toon.nramp = 3;
+  Image *img = render_image(&s, 2);
+  double red = 0, green = 0, lo = 1;
+  int n = 0;
+  for (int y = img->height / 8; y < img->height * 7 / 8; y++)
+    for (int x = img->width / 8; x < img->width * 7 / 8; x++, n++) {
+      const float *p = img->data + ((size_t)y * img->width + x) * img->channels;
+      red += p[0];
+      green += p[1];
+      lo = fmin(lo, p[0]);
+      CHECK(fabsf(p[1] - p[2]) < 1e-6f);   /* on the red-white segment */
+    }
+  CHECK(lo > 0.999);
+  CHECK_NEAR(red / n, 1, 1e-6);
+  CHECK_NEAR(green / n, 0.2, 0.03);
+  image_destroy(img);
+  arena_free(&s.arena);
+}
+
 /* ---- rendered: zooms ------------------------------------------------------------ */
 
 /* Lines per pixel along the middle column of img: the ink runs (red below
@@ -520,6 +590,8 @@ int main(void) {
   RUN(coverage_hatch);
   RUN(coverage_stipple);
   RUN(coverage_image);
+  RUN(strength_blends_toward_the_smooth_shade);
+  RUN(ramp_over_thresholds);
   RUN(spacing_holds_over_a_zoom);
   RUN(filtered_zoom_does_not_flicker);
   RUN(same_image_at_any_thread_count);
