@@ -76,6 +76,10 @@ check_text() {
 
 check_text parse ast "$SUMI" parse --ast
 check_text errors err "$SUMI" check
+# A render that ends in an error writes no output file (the cases name
+# theirs never.*).
+left=$(ls "$ROOT/tests/errors" | grep '^never\.' || true)
+if [ -z "$left" ]; then pass; else fail "errors: an error left an output file: $left"; (cd "$ROOT/tests/errors" && rm -f $left); fi
 check_text eval out "$SUMI" eval --scene
 
 # Hostile inputs: tests/hostile/x.npr -> x.err, as the errors suite, but

@@ -22,6 +22,17 @@ typedef __m128 M4;   /* four lanes' conditions: all bits set or clear */
 
 static inline F4 f4_load(const float *p) { return _mm_loadu_ps(p); }
 static inline void f4_store(float *p, F4 a) { _mm_storeu_ps(p, a); }
+/* r, g, b interleaved: p[0..11] = r0 g0 b0 r1 g1 b1 ... */
+static inline void f4_store_rgb(float *p, F4 r, F4 g, F4 b) {
+  __m128 rg_lo = _mm_unpacklo_ps(r, g), rg_hi = _mm_unpackhi_ps(r, g);   /* r0 g0 r1 g1, r2 g2 r3 g3 */
+  __m128 b_lo = _mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 1, 0, 0)), b_hi = _mm_shuffle_ps(b, b, _MM_SHUFFLE(3, 3, 2, 2));
+  _mm_storeu_ps(p, _mm_shuffle_ps(rg_lo, b_lo, _MM_SHUFFLE(0, 0, 1, 0)));       /* r0 g0 b0 b0 */
+  _mm_storeu_ps(p + 3, _mm_shuffle_ps(rg_lo, b_lo, _MM_SHUFFLE(2, 2, 3, 2)));   /* r1 g1 b1 b1 */
+  _mm_storeu_ps(p + 6, _mm_shuffle_ps(rg_hi, b_hi, _MM_SHUFFLE(0, 0, 1, 0)));   /* r2 g2 b2 b2 */
+  float last[4];
+  _mm_storeu_ps(last, _mm_shuffle_ps(rg_hi, b_hi, _MM_SHUFFLE(2, 2, 3, 2)));    /* r3 g3 b3 */
+  p[9] = last[0]; p[10] = last[1]; p[11] = last[2];
+}
 /* four pairs p[0..7] apart: *a = p[0], p[2], p[4], p[6], *b = p[1], p[3], ... */
 static inline void f4_load_pairs(const float *p, F4 *a, F4 *b) {
   __m128 lo = _mm_loadu_ps(p), hi = _mm_loadu_ps(p + 4);
@@ -77,6 +88,9 @@ typedef struct { uint32_t m[4]; } M4;
 
 static inline F4 f4_load(const float *p) { LANES_MAP(p[i]); }
 static inline void f4_store(float *p, F4 a) { for (int i = 0; i < 4; i++) p[i] = a.f[i]; }
+static inline void f4_store_rgb(float *p, F4 r, F4 g, F4 b) {
+  for (int i = 0; i < 4; i++) { p[3 * i] = r.f[i]; p[3 * i + 1] = g.f[i]; p[3 * i + 2] = b.f[i]; }
+}
 static inline void f4_load_pairs(const float *p, F4 *a, F4 *b) {
   for (int i = 0; i < 4; i++) { a->f[i] = p[2 * i]; b->f[i] = p[2 * i + 1]; }
 }

@@ -39,8 +39,10 @@ static inline F4 bright_i4(F4 X, F4 y, F4 lo, F4 hi) {
   return f4_add(f4_add(f4_mul(k, y), f4_min(f, lo)), f4_max(f4_sub(g, f4_set(0.5f)), f4_set(0)));
 }
 
-/* hatch_coverage_c in lanes, operation for operation (the same bits). */
-static inline F4 coverage4(F4 x, F4 fw, F4 t, F4 c, F4 y) {
+/* hatch_coverage_c in lanes, operation for operation (the same bits);
+** with `boxed` every lane's footprint is known to be over 1e-6 (the
+** filtered case), so the step at x alone is not worked out. */
+static inline F4 coverage4(F4 x, F4 fw, F4 t, F4 c, F4 y, int boxed) {
   F4 zero = f4_set(0), half = f4_set(0.5f), one = f4_set(1);
   y = f4_min(f4_max(y, zero), one);
   F4 a = f4_sub(half, f4_mul(half, t)), yc = f4_mul(y, f4_add(one, t));
@@ -49,12 +51,12 @@ static inline F4 coverage4(F4 x, F4 fw, F4 t, F4 c, F4 y) {
   z = f4_select(f4_lt(yc, f4_add(a, f4_mul(f4_set(2), t))), z, top);
   F4 lo = f4_min(f4_max(f4_mul(z, c), zero), half);
   F4 hi = f4_min(f4_max(f4_mul(f4_add(z, t), c), half), one);
-  M4 in = m4_or(f4_le(x, lo), m4_and(f4_le(half, x), f4_le(x, hi)));
   F4 h = f4_mul(half, fw);
+  F4 len = f4_sub(bright_i4(f4_add(x, h), y, lo, hi), bright_i4(f4_sub(x, h), y, lo, hi));
+  if (boxed) return f4_min(f4_max(f4_div(len, fw), zero), one);
+  M4 in = m4_or(f4_le(x, lo), m4_and(f4_le(half, x), f4_le(x, hi)));
   M4 wide = f4_lt(f4_set(1e-6f), fw);
-  F4 box = f4_div(f4_sub(bright_i4(f4_add(x, h), y, lo, hi), bright_i4(f4_sub(x, h), y, lo, hi)),
-                  f4_select(wide, fw, one));
-  F4 r = f4_select(wide, box, f4_keep(in, one));
+  F4 r = f4_select(wide, f4_div(len, f4_select(wide, fw, one)), f4_keep(in, one));
   return f4_min(f4_max(r, zero), one);
 }
 
@@ -63,8 +65,9 @@ void hatch_coverage_run(const float *x, const float *fw, const float *t, const f
   F4 flo = f4_set(lo), finv = f4_set(inv);
   int j = j0;
   for (; j + 4 <= j1; j += 4) {
-    F4 yl = f4_mul(f4_sub(f4_load(y + j), flo), finv);
-    F4 r = coverage4(f4_load(x + j), f4_load(fw + j), f4_load(t + j), f4_load(c + j), yl);
+    F4 yl = f4_mul(f4_sub(f4_load(y + j), flo), finv), w = f4_load(fw + j);
+    F4 r = m4_bits(f4_lt(f4_set(1e-6f), w)) == 15 ? coverage4(f4_load(x + j), w, f4_load(t + j), f4_load(c + j), yl, 1)
+                                                 : coverage4(f4_load(x + j), w, f4_load(t + j), f4_load(c + j), yl, 0);
     f4_store(bright + j, f4_mul(f4_load(bright + j), r));
   }
   for (; j < j1; j++) bright[j] *= hatch_coverage_c(x[j], fw[j], t[j], c[j], (y[j] - lo) * inv);

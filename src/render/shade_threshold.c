@@ -682,6 +682,17 @@ static void bands_block(const ShadeRow *r, const RenderObject *o, Block *b, int 
   }
 }
 
+/* n samples' colours from the planes R, G, B into out, sample j at
+** out[j * stride + 0..2]; rows of three (stride 3) four samples at a time. */
+static void block_out(const float *R, const float *G, const float *B, int n, float *out, int stride) {
+  int j = 0;
+  if (stride == 3)
+    for (; j + 4 <= n; j += 4) f4_store_rgb(out + 3 * j, f4_load(R + j), f4_load(G + j), f4_load(B + j));
+  for (out += (size_t)j * stride; j < n; j++, out += stride) {
+    out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
+  }
+}
+
 /* ---- spans --------------------------------------------------------------------------- */
 
 void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int k1, float *rgb,
@@ -716,10 +727,7 @@ void shade_threshold_span(const ShadeRow *r, const RenderObject *o, int k0, int 
         f4_store(G + j, f4_select(edge, f4_set(st->edge_color[1]), f4_load(G + j)));
         f4_store(B + j, f4_select(edge, f4_set(st->edge_color[2]), f4_load(B + j)));
       }
-    float *out = rgb + (size_t)k * stride;
-    for (int j = 0; j < b.n; j++, out += stride) {
-      out[0] = R[j]; out[1] = G[j]; out[2] = B[j];
-    }
+    block_out(R, G, B, b.n, rgb + (size_t)k * stride, stride);
   }
 }
 
