@@ -55,7 +55,23 @@ static int shading_jumps(const RenderObject *o, int t, int k, int g) {
   return 0;
 }
 
-static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv) {
+/* Samples a walk may reach: the window's, its apron, and a margin of two
+** (a walk ends a step from a sample centre). */
+typedef struct WalkBox {
+  float x0, y0, x1, y1;
+} WalkBox;
+
+/* Is triangle t, all of whose corners are projected, wholly outside b? */
+static int away_from(const AaObject *a, int t, const WalkBox *b) {
+  const float *p[3] = {a->sv[a->tri[t][0]], a->sv[a->tri[t][1]], a->sv[a->tri[t][2]]};
+  if (isnan(p[0][0]) || isnan(p[1][0]) || isnan(p[2][0])) return 0;
+  return (p[0][0] < b->x0 && p[1][0] < b->x0 && p[2][0] < b->x0) ||
+         (p[0][0] > b->x1 && p[1][0] > b->x1 && p[2][0] > b->x1) ||
+         (p[0][1] < b->y0 && p[1][1] < b->y0 && p[2][1] < b->y0) ||
+         (p[0][1] > b->y1 && p[1][1] > b->y1 && p[2][1] > b->y1);
+}
+
+static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, const WalkBox *box) {
   const Mesh *m = o->mesh;
   a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
@@ -67,7 +83,11 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv) 
     a->sv[v][2] = r->z;
   }
   a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
-  for (int t = 0; t < m->ntris; t++)
+  for (int t = 0; t < m->ntris; t++) {
+    if (away_from(a, t, box)) {
+      a->adj[t][0] = a->adj[t][1] = a->adj[t][2] = -1;
+      continue;
+    }
     for (int k = 0; k < 3; k++) {
       int g = -1;
       if (m->tri_edges) {
@@ -79,13 +99,18 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv) 
       if (g >= 0 && (o->backfacing[g] != o->backfacing[t] || shading_jumps(o, t, k, g))) g = -1;
       a->adj[t][k] = g;
     }
+  }
 }
 
-void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts) {
+void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron) {
+  int n = f->samples;
+  float g = (float)apron + 2;
+  WalkBox box = {(float)f->win.x0 * n - g, (float)f->win.y0 * n - g, (float)f->win.x1 * n + g,
+                 (float)f->win.y1 * n + g};
   af->f = f;
   af->nobjects = f->nobjects;
   af->objects = xcalloc((size_t)f->nobjects + 1, sizeof *af->objects);
-  for (int i = 0; i < f->nobjects; i++) object_init(&af->objects[i], &f->objects[i], verts[i]);
+  for (int i = 0; i < f->nobjects; i++) object_init(&af->objects[i], &f->objects[i], verts[i], &box);
 }
 
 void aa_frame_free(AaFrame *af) {

@@ -62,8 +62,11 @@ typedef struct AaBlend {
 } AaBlend;
 
 /* Prepare the walk's data for frame f, whose vertices the rasterizer
-** projected into verts (per object, for the sample grid). */
-void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts);
+** projected into verts (per object, for the sample grid), for the tiles of
+** f's window with an apron of apron samples: a triangle wholly away from
+** them is never walked (a walk crosses one sample's step), so it gets no
+** neighbours, and a tile of a big frame does not pay for the whole mesh. */
+void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron);
 void aa_frame_free(AaFrame *af);
 
 /* Where the shading steps at each sample of a tile: the level keys

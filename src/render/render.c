@@ -1311,7 +1311,7 @@ void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Imag
     job.full = gbuf_create(f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, N);
     job.full->camera = camera_scaled(&f->camera, f->width * N, f->height * N);
   }
-  if (p->bins.apron) aa_frame_init(&job.aa, f, p->bins.verts);
+  if (p->bins.apron) aa_frame_init(&job.aa, f, p->bins.verts, p->bins.apron);
   run_workers(&job, p->nthreads < job.ntiles ? p->nthreads : job.ntiles);
   p->done += job.ntiles;
   stats_record("raster+shade", stats_now() - t1);
