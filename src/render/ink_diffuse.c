@@ -118,12 +118,12 @@ typedef struct Offer {
 } Offer;
 
 /* Does style index s take part in the diffusion? */
-static int diffuses(const InkCanvas *c, int s) {
+static inline int diffuses(const InkCanvas *c, int s) {
   return s == INK_NO_STYLE || c->styles[s].stage >= INK_STAGE_DIFFUSED;
 }
 
 /* May giver q give to receiver p in pass `pass` under the three rules? */
-static int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
+static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
   int lq = c->level[q], lp = c->level[p];
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
@@ -137,7 +137,7 @@ static int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
 /* Does giver a come before giver b: darker (level, then ink, then water),
 ** and at a tie the one earlier in the image (so the order givers are
 ** looked at in does not matter)? */
-static int darker(const InkCanvas *c, size_t a, size_t b) {
+static inline int darker(const InkCanvas *c, size_t a, size_t b) {
   if (c->level[a] != c->level[b]) return c->level[a] > c->level[b];
   if (c->ink[a] != c->ink[b]) return c->ink[a] > c->ink[b];
   if (c->water[a] != c->water[b]) return c->water[a] > c->water[b];
@@ -513,15 +513,46 @@ static void column_sums(const float *const *rows, int n, size_t m, double *restr
   }
 }
 
+/* The columns [*lo, *hi) of [m0, m1) holding the row's nonzero values of
+** any of the nplanes rows src[k] (empty: lo = hi). */
+static void nonzero_span(const float *const *src, int nplanes, int m0, int m1, int *lo, int *hi) {
+  int a = m1, e = m0;
+  for (int k = 0; k < nplanes; k++) {
+    const float *v = src[k];
+    int x = m0;
+    while (x < a && v[x] == 0) x++;
+    a = x;
+    for (x = m1; x > e && v[x - 1] == 0; x--) {}
+    e = x;
+  }
+  *lo = a < e ? a : 0;
+  *hi = a < e ? e : 0;
+}
+
 /* Horizontal sums of row y of every plane (and of the weights, as the
 ** last, when weighted) into dst: nq rows of rw floats. Only the columns
-** the windows read, [rx0 - r, rx1 + r), are masked. */
+** the windows read, [rx0 - r, rx1 + r), are masked. Where a window holds
+** only zeros its sum is +0 (0.0 plus zeros): the data planes' sums are
+** worked out only around the row's nonzero values, the rest set to 0, and
+** the outputs that may be nonzero, [*x0, *x1) of 0 .. rw, returned. */
 static void hsum_row(float **planes, int nplanes, const uint8_t *weight, int w, int y, int rx0, int rx1, int r,
-                     float *masked, double *acc, float *dst) {
+                     float *masked, double *acc, float *dst, int *x0, int *x1) {
   int rw = rx1 - rx0, m0 = rx0 - r > 0 ? rx0 - r : 0, m1 = rx1 + r < w ? rx1 + r : w;
   const uint8_t *wt = weight ? weight + (size_t)y * w : NULL;
+  const float *rows[4];
+  for (int k = 0; k < nplanes && k < 4; k++) rows[k] = planes[k] + (size_t)y * w;
+  int lo = m0, hi = m1;   /* more than four planes: every column */
+  if (nplanes <= 4) nonzero_span(rows, nplanes, m0, m1, &lo, &hi);
+  int a = lo - r - rx0, e = hi + r - rx0;   /* the outputs whose windows reach them */
+  a = a > 0 ? a : 0;
+  e = e < rw ? e : rw;
+  if (a >= e) a = e = 0;
+  *x0 = a;
+  *x1 = e;
   for (int k = 0; k < nplanes + (weight != NULL); k++) {
     const float *src = k < nplanes ? planes[k] + (size_t)y * w : NULL;
+    float *d = dst + (size_t)k * rw;
+    int ka = k < nplanes ? a : 0, ke = k < nplanes ? e : rw;   /* the weights' sums: everywhere */
     if (wt) {   /* the weighted pixels only; the last plane sums the weights */
       if (src)
         for (int x = m0; x < m1; x++) masked[x] = wt[x] ? src[x] : 0;
@@ -529,7 +560,9 @@ static void hsum_row(float **planes, int nplanes, const uint8_t *weight, int w, 
         for (int x = m0; x < m1; x++) masked[x] = wt[x] ? 1 : 0;
       src = masked;
     }
-    row_sums(src, w, rx0, rx1, r, acc, dst + (size_t)k * rw);
+    for (int x = 0; x < ka; x++) d[x] = 0;
+    for (int x = ke; x < rw; x++) d[x] = 0;
+    if (ka < ke) row_sums(src, w, rx0 + ka, rx0 + ke, r, acc, d + ka);
   }
 }
 
@@ -543,6 +576,7 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
   /* the horizontal sums of the last side + 1 rows: a row is read by the
   ** boxes of the side rows around it, and overwritten only after that */
   float *hs = xmalloc((size_t)ring * m * sizeof *hs + 1);
+  int *span = xmalloc((size_t)ring * 2 * sizeof *span);             /* each ring row's nonzero outputs */
   float *masked = xmalloc((size_t)w * sizeof *masked + 1);          /* a row times its weight */
   double *acc = xmalloc(m * sizeof *acc + 1);                       /* the column sums */
   double *racc = xmalloc((size_t)rw * sizeof *racc + 1);            /* a row's window sums */
@@ -555,16 +589,30 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
   float inv_rows = -1;   /* the rows inv was worked out for (unweighted) */
   int next = hy0;   /* the next row whose horizontal sums go into the ring */
   for (int y = ry0; y < ry1; y++) {
-    for (; next <= y + r && next < hy1; next++)   /* rows in: their sums from the planes as they were */
-      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, racc,
-               hs + (size_t)((next - hy0) % ring) * m);
+    for (; next <= y + r && next < hy1; next++) {   /* rows in: their sums from the planes as they were */
+      int slot = (next - hy0) % ring;
+      hsum_row(planes, nplanes, weight, w, next, rx0, rx1, r, masked, racc, hs + (size_t)slot * m,
+               &span[2 * slot], &span[2 * slot + 1]);
+    }
     int a = y - r > hy0 ? y - r : hy0, e = y + r < hy1 - 1 ? y + r : hy1 - 1;
-    for (int yy = a; yy <= e; yy++) rows[yy - a] = hs + (size_t)((yy - hy0) % ring) * m;
-    column_sums(rows, e - a + 1, m, acc);   /* the column sums of the box's rows, top down */
+    int ua = rw, ub = 0;   /* the outputs some row of the box has nonzero sums at */
+    for (int yy = a; yy <= e; yy++) {
+      int slot = (yy - hy0) % ring;
+      if (span[2 * slot] < span[2 * slot + 1]) {
+        ua = span[2 * slot] < ua ? span[2 * slot] : ua;
+        ub = span[2 * slot + 1] > ub ? span[2 * slot + 1] : ub;
+      }
+    }
+    if (ua >= ub) ua = ub = 0;
+    for (int k = 0; k < nq; k++) {   /* the column sums of the box's rows, top down */
+      int ka = k < nplanes ? ua : 0, ke = k < nplanes ? ub : rw;
+      for (int yy = a; yy <= e; yy++) rows[yy - a] = hs + (size_t)((yy - hy0) % ring) * m + (size_t)k * rw + ka;
+      if (ka < ke) column_sums(rows, e - a + 1, (size_t)(ke - ka), acc + (size_t)k * rw + ka);
+    }
     float nrows = (float)((y + r < h ? y + r : h - 1) - (y - r > 0 ? y - r : 0) + 1);
     if (weight) {   /* the box's pixels: weighted ones */
       const double *cnt = acc + (size_t)nplanes * rw;
-      for (int x = 0; x < rw; x++) inv[x] = cnt[x] > 0.5 ? (float)(1 / cnt[x]) : 0;
+      for (int x = ua; x < ub; x++) inv[x] = cnt[x] > 0.5 ? (float)(1 / cnt[x]) : 0;
     } else if (nrows != inv_rows) {   /* those inside the image */
       for (int x = 0; x < rw; x++) inv[x] = 1 / (nrows * cols[x]);
       inv_rows = nrows;
@@ -572,7 +620,9 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
     for (int k = 0; k < nplanes; k++) {   /* row y's own sums are in the ring: it may change now */
       float *restrict dst = planes[k] + (size_t)y * w + rx0;
       const double *sum = acc + (size_t)k * rw;
-      for (int x = 0; x < rw; x++) dst[x] = (float)sum[x] * inv[x];
+      for (int x = 0; x < ua; x++) dst[x] = 0;   /* windows of zeros: +0 */
+      for (int x = ua; x < ub; x++) dst[x] = (float)sum[x] * inv[x];
+      for (int x = ub; x < rw; x++) dst[x] = 0;
     }
   }
   free(rows);
@@ -581,6 +631,7 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
   free(racc);
   free(acc);
   free(masked);
+  free(span);
   free(hs);
 }
 
