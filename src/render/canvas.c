@@ -141,6 +141,19 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
   const RenderObject *o = &f->objects[obj];
   float v[3];
   int plain = shade_ink_corners(f, o, face, v), gouraud = k->stage == INK_STAGE_GOURAUD;
+  if (plain && !gouraud && k->ntones == 4) {   /* the common case, its tests out of the loop */
+    const float l0 = k->levels[0], l1 = k->levels[1], l2 = k->levels[2], water = k->water;
+    const float *inks = k->ink;
+    for (size_t p = p0; p < p1; p++) {
+      float grey = shade_ink_lerp(v, g->bary[p]);
+      int label = 3 - (!(grey < l0) + !(grey < l1) + !(grey < l2));   /* ink_label's */
+      c->level[p] = (uint8_t)label;
+      c->style[p] = (uint16_t)si;
+      c->ink[p] = inks[label];
+      c->water[p] = label > 0 ? water : 0;
+    }
+    return;
+  }
   for (size_t p = p0; p < p1; p++) {
     float grey = plain ? shade_ink_lerp(v, g->bary[p]) : shade_ink_grey(f, o, face, g->bary[p]);
     int label = ink_label(k, grey);
