@@ -13,6 +13,7 @@
 #include "../../src/render/clahe.h"
 #include "../../src/render/hatch.h"
 #include "../../src/render/render.h"
+#include "../../src/render/texcoord.h"
 #include "../../src/render/texture.h"
 #include "unit.h"
 
@@ -260,6 +261,66 @@ TEST(threshold_texture_keeps_clahe_order) {
   free(v);
   texture_free(t);
   free(g);
+}
+
+/* ---- texture coordinates' screen rates ------------------------------------------ */
+
+/* The rates texcoord_run gives (from the triangle's own plane and
+** gradients, item 2) are those of the coordinates on screen: moving a
+** surface point so that its pixel (camera_to_pixel) steps by one along x
+** or y changes (u, v) by (ux, vx) or (uy, vy). The step is found from the
+** projection's own Jacobian over the plane, by finite differences, for a
+** tilted triangle under a perspective and an orthographic camera. */
+static void check_rates(CameraKind kind) {
+  Vec3 pos[3] = {v3(-1.2, -0.8, 0.1), v3(1.1, -0.5, 0.6), v3(0.2, 1.3, -0.4)};
+  int tri[1][3] = {{0, 1, 2}};
+  Mesh m = {.nverts = 3, .pos = pos, .ntris = 1, .tri = tri};
+  float wpos[3][3];
+  for (int k = 0; k < 3; k++) { wpos[k][0] = (float)pos[k].x; wpos[k][1] = (float)pos[k].y; wpos[k][2] = (float)pos[k].z; }
+  RenderObject o = {.mesh = &m, .wpos = wpos};
+  SceneCamera sc = {.present = 1, .kind = kind, .position = v3(0.9, -3.2, 2.4), .look_at = v3(0, 0, 0),
+                    .up = v3(0, 0, 1), .fov = 40, .ortho_height = 3, .loc = src_none()};
+  Camera cam;
+  const char *why = NULL;
+  CHECK(camera_setup(&cam, &sc, 320, 240, v3(-2, -2, -2), v3(2, 2, 2), 0, &why));
+  TexView view;
+  texcoord_view(&view, &cam);
+  TexTriangle tt;
+  texcoord_triangle(&tt, &o, 0, PROJ_PLANAR, 0.5f, &view);   /* (u, v) = (x, y) / 2 */
+  Vec3 e1 = v3_sub(pos[1], pos[0]), e2 = v3_sub(pos[2], pos[0]);
+  double bs[3][2] = {{0.2, 0.3}, {0.6, 0.1}, {0.25, 0.5}};
+  for (int i = 0; i < 3; i++) {
+    Vec3 p = v3_add(pos[0], v3_add(v3_mul(e1, bs[i][0]), v3_mul(e2, bs[i][1])));
+    /* the pixel's Jacobian over the plane's (a, b) = (e1, e2) coordinates */
+    double x0, y0, d, xa, ya, xb, yb, h = 1e-6;
+    CHECK(camera_to_pixel(&cam, p, &x0, &y0, &d));
+    camera_to_pixel(&cam, v3_add(p, v3_mul(e1, h)), &xa, &ya, &d);
+    camera_to_pixel(&cam, v3_add(p, v3_mul(e2, h)), &xb, &yb, &d);
+    double J[2][2] = {{(xa - x0) / h, (xb - x0) / h}, {(ya - y0) / h, (yb - y0) / h}};
+    double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+    /* (a, b) per pixel step along x and along y: the inverse's columns */
+    double ax = J[1][1] / det, bx = -J[1][0] / det, ay = -J[0][1] / det, by = J[0][0] / det;
+    Vec3 dpx = v3_add(v3_mul(e1, ax), v3_mul(e2, bx)), dpy = v3_add(v3_mul(e1, ay), v3_mul(e2, by));
+    float bary[4][2] = {{(float)bs[i][0], (float)bs[i][1]}};
+    float px[4] = {(float)p.x}, py[4] = {(float)p.y}, pz[4] = {(float)p.z};
+    float u[4], v[4], ux[4], uy[4], vx[4], vy[4];
+    texcoord_run(&tt, &view, 1, bary, px, py, pz, u, v, ux, uy, vx, vy);
+    CHECK_NEAR(u[0], p.x / 2, 1e-5);
+    CHECK_NEAR(v[0], p.y / 2, 1e-5);
+    double scale = fabs(dpx.x) + fabs(dpx.y) + fabs(dpy.x) + fabs(dpy.y);
+    CHECK_NEAR(ux[0], dpx.x / 2, 1e-3 * scale);
+    CHECK_NEAR(vx[0], dpx.y / 2, 1e-3 * scale);
+    CHECK_NEAR(uy[0], dpy.x / 2, 1e-3 * scale);
+    CHECK_NEAR(vy[0], dpy.y / 2, 1e-3 * scale);
+    float lu[4], lv[4], lux[4], luy[4], lvx[4], lvy[4];   /* the lanes: the same bits */
+    texcoord_run_lanes(&tt, &view, 4, bary, px, py, pz, lu, lv, lux, luy, lvx, lvy);
+    CHECK(lu[0] == u[0] && lv[0] == v[0] && lux[0] == ux[0] && luy[0] == uy[0] && lvx[0] == vx[0] && lvy[0] == vy[0]);
+  }
+}
+
+TEST(texcoord_rates_are_the_screen_rates) {
+  check_rates(CAMERA_PERSPECTIVE);
+  check_rates(CAMERA_ORTHO);
 }
 
 /* ---- rendered: a square under a constant shade ------------------------------- */
@@ -581,6 +642,7 @@ int main(void) {
   RUN(hatch_coverage_is_box_filtered_threshold);
   RUN(hatch_coverage_run_is_the_scalar_one);
   RUN(hatch_scale_keeps_spacing);
+  RUN(texcoord_rates_are_the_screen_rates);
   RUN(stipple_uniform_at_every_scale);
   RUN(stipple_dots_ink_centres_first);
   RUN(noise_smooth_and_bounded);
