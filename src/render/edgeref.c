@@ -21,11 +21,14 @@
 ** follows the length of the lines, not the resolution. Small tiles test
 ** fewer samples a triangle (a fine mesh's triangles are a pixel or two);
 ** the tile tables grow with their number, so bits grows from
-** LINE_REF_TILE_BITS until there are at most LINE_REF_MAX_TILES. Which
+** LINE_REF_TILE_BITS until there are at most LINE_REF_MAX_TILES (2^18:
+** 4 x 4 tiles at 1080p, 1 MB a table; 2^20 made a 7680 x 4320 tile job's
+** tables 10 MB, and 2 x 2 tiles at 1080p were slower: their passes over
+** the tables cost more than the samples they spare). Which
 ** triangle a sample finds does not depend on the tiles (every triangle
 ** reaching a sample is tested there, in list order). */
 #define LINE_REF_TILE_BITS 1
-#define LINE_REF_MAX_TILES (1 << 20)
+#define LINE_REF_MAX_TILES (1 << 18)
 
 static int tile_bits(int w, int h) {
   int bits = LINE_REF_TILE_BITS;
