@@ -411,13 +411,25 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out, int *D, FlatMix
   int w = pt->layer->width, tw = pp->width, ox = pt->ox;
   size_t row = (size_t)y * w, row_t = paper_texel(pp, 0, y + pt->oy);   /* the frame's rows and columns */
   const float *ink = pt->c ? pt->c->ink + row : NULL;
+  int lo = 0, hi = 0;   /* the row's pixels from its first ink to its last */
+  if (ink) {
+    while (lo < w && ink[lo] == 0) lo++;
+    for (hi = w; hi > lo && ink[hi - 1] == 0; hi--) {}
+  }
   for (int x0 = 0, tx = ox % tw; x0 < w; x0 += tw - tx, tx = 0) {   /* runs of the tile's row */
     int n = w - x0 < tw - tx ? w - x0 : tw - tx;
     const uint8_t *P = pp->code + 3 * (row_t + (size_t)tx);
     const float *A = pp->absorb ? pp->absorb + row_t + tx : NULL;
     uint8_t *o = out + 3 * (size_t)x0;
-    if (!ink) { memcpy(o, P, 3 * (size_t)n); continue; }
-    const float *I = ink + x0;
+    /* no ink (density 0, the absorbency finite) shows the paper's codes */
+    int a = lo - x0 > 0 ? (lo - x0 < n ? lo - x0 : n) : 0, e = hi - x0 < n ? hi - x0 : n;
+    if (e < a) e = a;
+    memcpy(o, P, 3 * (size_t)a);
+    memcpy(o + 3 * (size_t)e, P + 3 * (size_t)e, 3 * (size_t)(n - e));
+    if (a == e) continue;
+    int xs = x0 + a;   /* the ink's part of the run */
+    P += 3 * (size_t)a, o += 3 * (size_t)a, A = A ? A + a : NULL, n = e - a;
+    const float *I = ink + xs;
     if (pt->mix[0] && !A && pp->height == 1) {   /* one ink on one colour: a table each channel */
       densities(I, NULL, D, n);
       mix_flat(flat_mix(pt, P, fm), D, o, n);
@@ -431,7 +443,7 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out, int *D, FlatMix
     for (int i = 0; i < n; i++, o += 3, P += 3) {   /* inks of several colours */
       int d = density(I[i], A ? A[i] : 1);
       float kc[3];
-      ink_colour(pt, row + (size_t)(x0 + i), I[i], kc);
+      ink_colour(pt, row + (size_t)(xs + i), I[i], kc);
       for (int ch = 0; ch < 3; ch++) {
         int K = (int)(kc[ch] * 255 + 0.5f);
         o[ch] = (uint8_t)(P[ch] + (((K - P[ch]) * d + 128) >> 8));
