@@ -190,8 +190,8 @@ static int best_offer(const InkCanvas *c, int x, int y, int pass, Offer *best) {
 
 typedef struct Updates { Offer *v; int n, cap; } Updates;
 
-static void updates_add(Updates *u, const Offer *o) {
-  u->v = xgrow(u->v, &u->cap, u->n + 1, sizeof *u->v);
+static inline void updates_add(Updates *u, const Offer *o) {
+  if (u->n == u->cap) u->v = xgrow(u->v, &u->cap, u->n + 1, sizeof *u->v);   /* full: twice the room */
   u->v[u->n++] = *o;
 }
 
@@ -287,7 +287,7 @@ static void receivers_reset(Receivers *t, size_t n) {
 static void receivers_put(Receivers *t, uint32_t h, uint32_t p, uint32_t at) {
   t->key[h] = p;
   t->at[h] = at;
-  t->used = xgrow(t->used, &t->capused, t->nused + 1, sizeof *t->used);
+  if (t->nused == t->capused) t->used = xgrow(t->used, &t->capused, t->nused + 1, sizeof *t->used);
   t->used[t->nused++] = h;
 }
 
