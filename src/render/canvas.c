@@ -176,6 +176,7 @@ static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, 
     for (int x = 0, e; x < c->width; x = e) {
       e = x + 1;
       if (obj[x] < 0) {   /* a run of background: bare paper */
+        while (e + 4 <= c->width && (obj[e] & obj[e + 1] & obj[e + 2] & obj[e + 3]) < 0) e += 4;   /* all four < 0 */
         while (e < c->width && obj[e] < 0) e++;
         paper_run(c, y, x, e);
         continue;
@@ -413,6 +414,7 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out, int *D, FlatMix
   const float *ink = pt->c ? pt->c->ink + row : NULL;
   int lo = 0, hi = 0;   /* the row's pixels from its first ink to its last */
   if (ink) {
+    while (lo + 4 <= w && ((ink[lo] == 0) & (ink[lo + 1] == 0) & (ink[lo + 2] == 0) & (ink[lo + 3] == 0))) lo += 4;
     while (lo < w && ink[lo] == 0) lo++;
     for (hi = w; hi > lo && ink[hi - 1] == 0; hi--) {}
   }

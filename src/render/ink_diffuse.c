@@ -520,6 +520,7 @@ static void nonzero_span(const float *const *src, int nplanes, int m0, int m1, i
   for (int k = 0; k < nplanes; k++) {
     const float *v = src[k];
     int x = m0;
+    while (x + 4 <= a && ((v[x] == 0) & (v[x + 1] == 0) & (v[x + 2] == 0) & (v[x + 3] == 0))) x += 4;
     while (x < a && v[x] == 0) x++;
     a = x;
     for (x = m1; x > e && v[x - 1] == 0; x--) {}
