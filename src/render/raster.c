@@ -77,12 +77,6 @@ static int clip_polygon(ClipVert *poly, int n, unsigned planes, double gx, doubl
 
 /* ---- setup --------------------------------------------------------------- */
 
-/* floor(a / b) for b > 0, exact for negative a too. */
-static inline int64_t floor_div(int64_t a, int64_t b) {
-  int64_t q = a / b;
-  return q - (a % b < 0);
-}
-
 /* Round to the nearest integer, halves away from zero (inline, exact). */
 static inline int64_t snap(double v) {
   return v >= 0 ? (int64_t)(v + 0.5) : -(int64_t)(0.5 - v);
@@ -126,30 +120,39 @@ static void plane(float p[3], const double f[3], double ex1, double ey1, double 
   p[2] = (float)((d2 * ex1 - d1 * ex2) * inv_det);
 }
 
-/* Set up triangle v[0..2] (all inside the planes) carrying barycentrics
-** b[0..2]. Returns 0 when it has no area or covers no sample centre. */
-static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], int32_t object,
-                 int32_t face, int width, int height) {
-  /* The pixels whose centre (i + 1/2) lies in the bounding box:
-  ** ceil(min - 1/2) .. floor(max - 1/2), clamped to the target. Most
-  ** triangles of a fine mesh that are dropped are dropped here. */
+/* The pixels whose centre (i + 1/2) lies in the bounding box of in[0..2]:
+** ceil(min - 1/2) .. floor(max - 1/2), clamped to the target, into
+** box[0..3] (x0, y0, x1, y1), and twice the signed area on the grid.
+** Returns 0 when the triangle has no area or its box holds no sample
+** centre: most triangles of a fine mesh that are dropped are dropped here. */
+static inline int cover_box(const RastVert *const in[3], int width, int height, int box[4], int64_t *area) {
   int64_t xmin = in[0]->X, xmax = in[0]->X, ymin = in[0]->Y, ymax = in[0]->Y;
   for (int i = 1; i < 3; i++) {
     xmin = in[i]->X < xmin ? in[i]->X : xmin; xmax = in[i]->X > xmax ? in[i]->X : xmax;
     ymin = in[i]->Y < ymin ? in[i]->Y : ymin; ymax = in[i]->Y > ymax ? in[i]->Y : ymax;
   }
-  int64_t bx0 = -floor_div(SUB / 2 - xmin, SUB), bx1 = floor_div(xmax - SUB / 2, SUB) + 1;
-  int64_t by0 = -floor_div(SUB / 2 - ymin, SUB), by1 = floor_div(ymax - SUB / 2, SUB) + 1;
-  t->x0 = (int)(bx0 > 0 ? bx0 : 0);
-  t->y0 = (int)(by0 > 0 ? by0 : 0);
-  t->x1 = (int)(bx1 < width ? bx1 : width);
-  t->y1 = (int)(by1 < height ? by1 : height);
-  if (t->x0 >= t->x1 || t->y0 >= t->y1) return 0;
-  /* Twice the signed area on the grid; a negative one swaps vertices 1
-  ** and 2 so the interior is where all three edge functions are positive. */
-  int64_t area = (in[1]->X - in[0]->X) * (in[2]->Y - in[0]->Y) -
-                 (in[2]->X - in[0]->X) * (in[1]->Y - in[0]->Y);
-  if (area == 0) return 0;
+  /* floor(a / SUB) is an arithmetic shift */
+  int64_t bx0 = -((SUB / 2 - xmin) >> RAST_SUBPIXEL_BITS), bx1 = ((xmax - SUB / 2) >> RAST_SUBPIXEL_BITS) + 1;
+  int64_t by0 = -((SUB / 2 - ymin) >> RAST_SUBPIXEL_BITS), by1 = ((ymax - SUB / 2) >> RAST_SUBPIXEL_BITS) + 1;
+  box[0] = (int)(bx0 > 0 ? bx0 : 0);
+  box[1] = (int)(by0 > 0 ? by0 : 0);
+  box[2] = (int)(bx1 < width ? bx1 : width);
+  box[3] = (int)(by1 < height ? by1 : height);
+  if (box[0] >= box[2] || box[1] >= box[3]) return 0;
+  *area = (in[1]->X - in[0]->X) * (in[2]->Y - in[0]->Y) - (in[2]->X - in[0]->X) * (in[1]->Y - in[0]->Y);
+  return *area != 0;
+}
+
+/* Set up triangle v[0..2] (all inside the planes) carrying barycentrics
+** b[0..2]. Returns 0 when it has no area or covers no sample centre. */
+static int setup(RastTri *t, const RastVert *const in[3], const double b[3][2], int32_t object,
+                 int32_t face, int width, int height) {
+  int box[4];
+  int64_t area;
+  if (!cover_box(in, width, height, box, &area)) return 0;
+  t->x0 = box[0], t->y0 = box[1], t->x1 = box[2], t->y1 = box[3];
+  /* a negative area swaps vertices 1 and 2 so the interior is where all
+  ** three edge functions are positive */
   int ord[3] = {0, 1, 2};
   if (area < 0) { ord[1] = 2; ord[2] = 1; }
   const RastVert *v[3] = {in[ord[0]], in[ord[1]], in[ord[2]]};
@@ -237,6 +240,33 @@ int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int
   if (any) return emit_clipped(list, v, any, object, face, width, height);
   if (!setup(list_push(list), v, corner_bary, object, face, width, height)) return 0;
   list->n++;
+  return 1;
+}
+
+int rast_setup(RastTri *t, const RastVert *const v[3], int32_t object, int32_t face, int width, int height) {
+  static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  return setup(t, v, corner_bary, object, face, width, height);
+}
+
+int rast_bounds(const RastVert *const v[3], int width, int height, int box[4], float *zmin) {
+  int64_t area;
+  if (!cover_box(v, width, height, box, &area)) return 0;
+  /* the depth plane through the three vertices, in double, relative to
+  ** vertex 0 (the plane origin setup takes: its position is exact in
+  ** float, and so are the offsets of sample centres from it) */
+  const double inv_sub = 1.0 / SUB;
+  double ex1 = (double)(v[1]->X - v[0]->X) * inv_sub, ey1 = (double)(v[1]->Y - v[0]->Y) * inv_sub;
+  double ex2 = (double)(v[2]->X - v[0]->X) * inv_sub, ey2 = (double)(v[2]->Y - v[0]->Y) * inv_sub;
+  double inv_det = (double)SUB * SUB / (double)area;   /* signed: the vertices in their own order */
+  double d1 = (double)v[1]->z - v[0]->z, d2 = (double)v[2]->z - v[0]->z;
+  double gx = (d1 * ey2 - d2 * ey1) * inv_det, gy = (d2 * ex1 - d1 * ex2) * inv_det;
+  double ox = (double)v[0]->X * inv_sub, oy = (double)v[0]->Y * inv_sub;
+  double fx0 = box[0] + 0.5 - ox, fx1 = box[2] - 0.5 - ox, fy0 = box[1] + 0.5 - oy, fy1 = box[3] - 0.5 - oy;
+  double zx = gx * fx0 < gx * fx1 ? gx * fx0 : gx * fx1, zy = gy * fy0 < gy * fy1 ? gy * fy0 : gy * fy1;
+  /* the float sums the setup's bound and the drawing make round within
+  ** 2^-24 of their terms' sizes: the margin is far wider */
+  double size = fabs(v[0]->z) + fabs(gx) * (fabs(fx0) + fabs(fx1)) + fabs(gy) * (fabs(fy0) + fabs(fy1));
+  *zmin = (float)(v[0]->z + zx + zy - 2e-5 - 1e-6 * size);
   return 1;
 }
 

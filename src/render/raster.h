@@ -90,6 +90,18 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height);
 int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int32_t face, int width,
               int height);
 
+/* The same setup for a triangle none of whose vertices is outside a plane
+** (outcodes 0): what rast_emit appends for it, into t. Returns 0 when it
+** has no area or covers no sample centre. */
+int rast_setup(RastTri *t, const RastVert *const v[3], int32_t object, int32_t face, int width, int height);
+
+/* What a setup would cover without doing it, for such a triangle: its
+** pixel box (x0, y0, x1, y1, as RastTri's) and a depth no sample it draws
+** is nearer than, below the least of its depth plane over the box's sample
+** centres by a margin wider than the rounding of setup's float planes.
+** Returns 0 when rast_setup would. */
+int rast_bounds(const RastVert *const v[3], int width, int height, int box[4], float *zmin);
+
 /* Draw t into rt: every covered sample inside rt's rectangle whose depth is
 ** less than the stored depth gets depth, object, face and barycentrics. */
 void rast_triangle(const RastTri *t, const RastTarget *rt);

@@ -503,11 +503,12 @@ void render_frame_free(RenderFrame *f) {
 ** the whole RastTri: the tiles it touches, columns tx0..tx1 and rows
 ** ty0..ty1 (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits), whether
 ** it faces away from the camera, and a depth no sample of it is nearer
-** than. */
+** than. A lazy one (a back face, see emit_chunk) is not set up yet: its
+** RastTri holds only its pixel box, object and face. */
 typedef struct TileBox {
   uint16_t tx0, ty0, tx1, ty1;
   float zmin;
-  int back;
+  uint16_t back, lazy;
 } TileBox;
 
 /* The set-up triangles, in per-chunk lists (see setup_triangles), and the
@@ -527,7 +528,10 @@ typedef struct Bins {
   uint32_t *items;
   int apron;                   /* 1 when antialiased: a bin also holds the triangles touching
                                   the samples just around its tile */
-  RastVert **verts;            /* antialiased: per object, its projected vertices */
+  RastVert **verts;            /* per object, its projected vertices (the edge walks and
+                                  the lazy setups read them) */
+  const RenderFrame *f;
+  int gw, gh;                  /* the sample grid */
 } Bins;
 
 #define BIN_LOCAL_BITS 15
@@ -602,11 +606,41 @@ static void emit_chunk(void *ctx, int k) {
   RastTriList *list = &job->lists[k];
   list->cap = c->end - c->start;   /* one each, unless clipping splits some */
   list->tris = xmalloc((size_t)list->cap * sizeof *list->tris);
+  /* per entry: 1 for a lazy one, whose bound is in zlazy */
+  int side_cap = list->cap;
+  unsigned char *lazy = xmalloc((size_t)side_cap + 1);
+  float *zlazy = xmalloc(((size_t)side_cap + 1) * sizeof *zlazy);
   for (int t = c->start; t < c->end; t++) {
     if (o->cull_back && o->backfacing[t]) continue;   /* hidden by the object's front */
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
     if (outside_window(job, tv)) continue;
+    int n0 = list->n;
+    if (o->backfacing[t] && !(tv[0]->outcode | tv[1]->outcode | tv[2]->outcode)) {
+      /* A back face is drawn after the front ones and mostly hidden by
+      ** them (raster_items skips it on its depth bound): work out only its
+      ** box and bound now, and set it up when a tile draws it. */
+      int bx[4];
+      float z;
+      if (!rast_bounds(tv, job->gw, job->gh, bx, &z)) continue;
+      if (list->n == list->cap) list->tris = xgrow(list->tris, &list->cap, list->n + 1, sizeof *list->tris);
+      if (side_cap < list->cap) {
+        side_cap = list->cap;
+        lazy = xrealloc(lazy, (size_t)side_cap + 1);
+        zlazy = xrealloc(zlazy, ((size_t)side_cap + 1) * sizeof *zlazy);
+      }
+      RastTri *r = &list->tris[list->n++];
+      r->x0 = bx[0], r->y0 = bx[1], r->x1 = bx[2], r->y1 = bx[3];
+      r->object = c->object, r->face = t;
+      lazy[n0] = 1, zlazy[n0] = z;
+      continue;
+    }
     rast_emit(list, tv, c->object, t, job->gw, job->gh);
+    if (side_cap < list->cap) {   /* clipping split it: the side tables grow too */
+      side_cap = list->cap;
+      lazy = xrealloc(lazy, (size_t)side_cap + 1);
+      zlazy = xrealloc(zlazy, ((size_t)side_cap + 1) * sizeof *zlazy);
+    }
+    memset(lazy + n0, 0, (size_t)(list->n - n0));
   }
   TileBox *box = job->boxes[k] = xmalloc(((size_t)list->n + 1) * sizeof *box);
   int side = job->side, g = job->apron;   /* a triangle's box grows by the apron */
@@ -622,8 +656,10 @@ static void emit_chunk(void *ctx, int k) {
     box[i] = (TileBox){(uint16_t)((t->x0 - g > 0 ? t->x0 - g : 0) / side),
                        (uint16_t)((t->y0 - g > 0 ? t->y0 - g : 0) / side),
                        (uint16_t)(tx1 < last_x ? tx1 : last_x), (uint16_t)(ty1 < last_y ? ty1 : last_y),
-                       t->z[0] + zx + zy - 1e-5f, o->backfacing[t->face]};
+                       lazy[i] ? zlazy[i] : t->z[0] + zx + zy - 1e-5f, o->backfacing[t->face], lazy[i]};
   }
+  free(lazy);
+  free(zlazy);
 }
 
 /* Chunks covering count(object) items of every object; returns how many. */
@@ -657,12 +693,8 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
   job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
   job.boxes = xcalloc((size_t)n + 1, sizeof *job.boxes);
   tasks_run(n, nthreads, emit_chunk, &job);
-  if (b->apron) {
-    b->verts = job.verts;   /* the edge walks read them */
-  } else {
-    for (int i = 0; i < f->nobjects; i++) free(job.verts[i]);
-    free(job.verts);
-  }
+  b->verts = job.verts;   /* the lazy setups and the edge walks read them */
+  b->f = f, b->gw = gw, b->gh = gh;
   free(job.chunks);
   b->lists = job.lists;
   b->boxes = job.boxes;
@@ -1072,13 +1104,23 @@ static void raster_items(const Bins *b, int i0, int i1, float far, int boxes, Ra
       __builtin_prefetch(ahead);
       __builtin_prefetch(ahead + sizeof(RastTri) - 1);
     }
-    float zmin = bin_box(b, b->items[i])->zmin;
+    const TileBox *box = bin_box(b, b->items[i]);
+    float zmin = box->zmin;
     if (zmin >= far) continue;
     const RastTri *t = bin_tri(b, b->items[i]);
     if (boxes) {
       int x0 = t->x0 > rt->x0 ? t->x0 : rt->x0, x1 = t->x1 < rt->x1 ? t->x1 : rt->x1;
       int y0 = t->y0 > rt->y0 ? t->y0 : rt->y0, y1 = t->y1 < rt->y1 ? t->y1 : rt->y1;
       if (x0 >= x1 || y0 >= y1 || zmin >= rect_far(rt, x0, y0, x1, y1)) continue;
+    }
+    if (box->lazy) {   /* set up here, the same triangle emit_chunk would have made */
+      RastTri own;
+      const int *v = b->f->objects[t->object].mesh->tri[t->face];
+      const RastVert *rv = b->verts[t->object];
+      const RastVert *tv[3] = {&rv[v[0]], &rv[v[1]], &rv[v[2]]};
+      rast_setup(&own, tv, t->object, t->face, b->gw, b->gh);
+      rast_triangle(&own, rt);
+      continue;
     }
     rast_triangle(t, rt);
   }
