@@ -64,6 +64,20 @@ done
 cmp -s "$OUT/subdiv/all_0002.png" "$OUT/subdiv/all_0003.png" && s=0   # the pulled corner shows
 if [ "$s" = 1 ]; then ok; else bad "subdivided frames differ from the same frames rendered alone"; fi
 
+# the same mesh kept across frames while the crease angle (frame 2) and
+# the object's transform (frame 3) change (tests/data/frames/subdiv_turn.npr):
+# what the line stage and the antialiasing keep with the refinement is
+# made again for them, and each frame has the bytes it has alone
+mkdir -p "$OUT/turn"
+"$SUMI" render "$ROOT/tests/data/frames/subdiv_turn.npr" --frames 0:4 --quiet -o "$OUT/turn/all_####.png" ||
+  bad "the turning run failed"
+s=1
+for fr in 0 1 2 3 4; do
+  "$SUMI" render "$ROOT/tests/data/frames/subdiv_turn.npr" --frames 0:4 --only $fr --quiet -o "$OUT/turn/one_####.png"
+  cmp -s "$OUT/turn/all_000$fr.png" "$OUT/turn/one_000$fr.png" || s=0
+done
+if [ "$s" = 1 ]; then ok; else bad "frames of a kept mesh differ from the same frames rendered alone"; fi
+
 # --resume: whole frames are skipped (their files untouched), one cut
 # short and one missing are rendered again, to the whole run's bytes
 mkdir -p "$OUT/resume"

@@ -22,8 +22,39 @@ Mesh *mesh_create(int nverts, int ntris) {
   return m;
 }
 
+void *mesh_derived(const Mesh *m, const void *tag) {
+  for (const MeshDerived *d = m->derived; d; d = d->next)
+    if (d->tag == tag) return d->data;
+  return NULL;
+}
+
+int mesh_derived_set(Mesh *m, const void *tag, void *data, void (*free_data)(void *data)) {
+  if (!m->keeps_derived) return 0;
+  for (MeshDerived *d = m->derived; d; d = d->next)
+    if (d->tag == tag) {
+      d->free_data(d->data);
+      d->data = data;
+      d->free_data = free_data;
+      return 1;
+    }
+  MeshDerived *d = xmalloc(sizeof *d);
+  *d = (MeshDerived){tag, data, free_data, m->derived};
+  m->derived = d;
+  return 1;
+}
+
+void mesh_derived_clear(Mesh *m) {
+  while (m->derived) {
+    MeshDerived *d = m->derived;
+    m->derived = d->next;
+    d->free_data(d->data);
+    free(d);
+  }
+}
+
 void mesh_destroy(Mesh *m) {
   if (!m) return;
+  mesh_derived_clear(m);
   free(m->pos);
   free(m->nrm);
   free(m->uv);
@@ -94,6 +125,7 @@ static inline int edge_of(Mesh *m, EdgeLists *l, int a, int b, int t) {
 }
 
 void mesh_build_edges(Mesh *m) {
+  mesh_derived_clear(m);   /* made from the old topology */
   free(m->edges);
   free(m->tri_edges);
   size_t cap = (size_t)m->ntris * 3;

@@ -41,12 +41,36 @@ typedef struct Mesh {
   int nedges;
   MeshEdge *edges;
   int (*tri_edges)[3];   /* edge index of tri edge (v0v1, v1v2, v2v0) */
+  /* What later stages work out from the mesh alone and keep with it, so
+  ** that a mesh kept across frames (a refinement the subdivision cache
+  ** lends each frame) is not worked over again: freed with the mesh, and
+  ** dropped when its topology is rebuilt. */
+  struct MeshDerived *derived;
+  unsigned char keeps_derived;   /* set by whoever keeps the mesh for later frames: without
+                                    it, nothing is kept with it (peak memory) */
 } Mesh;
+
+/* One stage's data kept with a mesh, found by the stage's tag (the
+** address of a static of its own). */
+typedef struct MeshDerived {
+  const void *tag;
+  void *data;
+  void (*free_data)(void *data);
+  struct MeshDerived *next;
+} MeshDerived;
 
 Mesh *mesh_create(int nverts, int ntris);      /* arrays allocated, uv and corner_nrm NULL */
 void mesh_destroy(Mesh *m);
 /* Build edges and tri_edges from tri (replaces any earlier topology). */
 void mesh_build_edges(Mesh *m);
+/* The data kept with m under tag, or NULL. */
+void *mesh_derived(const Mesh *m, const void *tag);
+/* Keep data with m under tag (replacing and freeing any there), freed by
+** free_data with the mesh, when m keeps_derived: returns 1. Otherwise
+** returns 0 and data stays the caller's. */
+int mesh_derived_set(Mesh *m, const void *tag, void *data, void (*free_data)(void *data));
+/* Free everything kept with m. */
+void mesh_derived_clear(Mesh *m);
 /* Area-weighted vertex normals from the triangles (for meshes without any). */
 void mesh_compute_normals(Mesh *m);
 /* The texture coordinates of corner k of triangle t (m->uv not NULL). */

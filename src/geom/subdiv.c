@@ -406,7 +406,9 @@ Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, s
     cache.e[i].mesh = NULL;
     return m;
   }
-  return subdiv_mesh_ex(g, boundary, NULL, err, errlen);
+  Mesh *m = subdiv_mesh_ex(g, boundary, NULL, err, errlen);
+  if (m) m->keeps_derived = cache.max > 0;   /* the later stages' data goes into the cache too */
+  return m;
 }
 
 void subdiv_mesh_done(const SceneGeometry *g, SumiOsdBoundary boundary, Mesh *m) {

@@ -61,14 +61,40 @@ typedef struct WalkBox {
   float x0, y0, x1, y1;
 } WalkBox;
 
-/* Is triangle t, all of whose corners are projected, wholly outside b? */
-static int away_from(const AaObject *a, int t, const WalkBox *b) {
-  const float *p[3] = {a->sv[a->tri[t][0]], a->sv[a->tri[t][1]], a->sv[a->tri[t][2]]};
-  if (isnan(p[0][0]) || isnan(p[1][0]) || isnan(p[2][0])) return 0;
-  return (p[0][0] < b->x0 && p[1][0] < b->x0 && p[2][0] < b->x0) ||
-         (p[0][0] > b->x1 && p[1][0] > b->x1 && p[2][0] > b->x1) ||
-         (p[0][1] < b->y0 && p[1][1] < b->y0 && p[2][1] < b->y0) ||
-         (p[0][1] > b->y1 && p[1][1] > b->y1 && p[2][1] > b->y1);
+/* The sides of b a vertex at sample-grid position p lies beyond: bit 0
+** left, 1 right, 2 above, 3 below (none for a vertex not projected, x
+** NaN). A triangle all of whose corners are beyond one side (the AND of
+** their codes) is wholly outside b. */
+static unsigned away_code(const float p[3], const WalkBox *b) {
+  if (isnan(p[0])) return 0;
+  return (unsigned)(p[0] < b->x0) | (unsigned)(p[0] > b->x1) << 1 | (unsigned)(p[1] < b->y0) << 2 |
+         (unsigned)(p[1] > b->y1) << 3;
+}
+
+/* The triangle across edge k of triangle t of m, from its topology (-1:
+** a boundary, a non-manifold edge, no topology), or from nb when there. */
+static inline int neighbour(const Mesh *m, const int32_t (*nb)[3], int t, int k) {
+  if (nb) return nb[t][k];
+  if (!m->tri_edges) return -1;
+  const MeshEdge *e = &m->edges[m->tri_edges[t][k]];
+  return e->nonmanifold ? -1 : e->f[0] == t ? e->f[1] : e->f[0];
+}
+
+/* The mesh's neighbours (neighbour()) as a table kept with a mesh kept
+** for later frames (mesh_derived): they depend on the mesh alone. NULL for
+** a mesh that keeps nothing (the topology is read instead: no table in
+** memory beside it). */
+static const char neighbours_tag;
+
+static const int32_t (*mesh_neighbours(const Mesh *m))[3] {
+  int32_t (*nb)[3] = mesh_derived(m, &neighbours_tag);
+  if (nb || !m->keeps_derived) return (const int32_t(*)[3])nb;
+  nb = xmalloc(((size_t)m->ntris + 1) * sizeof *nb);
+  for (int t = 0; t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) nb[t][k] = neighbour(m, NULL, t, k);
+  /* an addition to the mesh, not a change: it stays the caller's */
+  mesh_derived_set((Mesh *)m, &neighbours_tag, nb, free);
+  return (const int32_t(*)[3])nb;
 }
 
 static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, const WalkBox *box) {
@@ -76,30 +102,33 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, 
   a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
   a->sv = xmalloc(((size_t)m->nverts + 1) * sizeof *a->sv);
+  unsigned char *code = xmalloc((size_t)m->nverts + 1);
+  unsigned any = 0;
   for (int v = 0; v < m->nverts; v++) {
     const RastVert *r = &rv[v];
     a->sv[v][0] = r->outcode ? NAN : (float)r->X / (1 << RAST_SUBPIXEL_BITS);
     a->sv[v][1] = (float)r->Y / (1 << RAST_SUBPIXEL_BITS);
     a->sv[v][2] = r->z;
+    code[v] = (unsigned char)away_code(a->sv[v], box);
+    any |= code[v];
   }
+  const int32_t (*nb)[3] = mesh_neighbours(m);
   a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
   for (int t = 0; t < m->ntris; t++) {
-    if (away_from(a, t, box)) {
+    const int *c = m->tri[t];
+    if (any && (code[c[0]] & code[c[1]] & code[c[2]])) {   /* wholly away from the window */
       a->adj[t][0] = a->adj[t][1] = a->adj[t][2] = -1;
       continue;
     }
     for (int k = 0; k < 3; k++) {
-      int g = -1;
-      if (m->tri_edges) {
-        const MeshEdge *e = &m->edges[m->tri_edges[t][k]];
-        g = e->nonmanifold ? -1 : e->f[0] == t ? e->f[1] : e->f[0];
-      }
+      int g = neighbour(m, nb, t, k);
       /* the walk stops where the surface ends, turns away (an outline)
       ** or its shading jumps */
       if (g >= 0 && (o->backfacing[g] != o->backfacing[t] || shading_jumps(o, t, k, g))) g = -1;
       a->adj[t][k] = g;
     }
   }
+  free(code);
 }
 
 void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron) {

@@ -155,6 +155,85 @@ static void face_normals(Vec3 *fn, unsigned char *zero, unsigned char *front, co
   }
 }
 
+/* Which of m's triangles the viewer sees the front of, from their unit
+** normals fn: face_normals' front alone. */
+static void face_fronts(unsigned char *front, const Mesh *m, const Vec3 *world, const Vec3 *fn,
+                        const Camera *cam) {
+  int ortho = cam->kind == CAMERA_ORTHO;
+  Vec3 fwd = cam->forward, eye = cam->eye;
+  for (int t = 0; t < m->ntris; t++) {
+    Vec3 v = ortho ? fwd : v3_sub(world[m->tri[t][0]], eye);
+    front[t] = v3_dot(v, fn[t]) < 0;
+  }
+}
+
+/* ---- what the mesh decides, kept with it --------------------------------- */
+
+/* The half of classifying an object's edges that does not depend on the
+** view, kept with its mesh (mesh_derived) for the next frames: its unit
+** world face normals and their zero flags, and per edge its kinds
+** but silhouette, with EDGE_TRY_SILHOUETTE where the silhouette test
+** applies (two faces, neither degenerate). Made for one transform, set of
+** kinds and crease angle (compared exactly). */
+typedef struct EdgeCache {
+  Mat4 to_world;
+  unsigned want;
+  double crease_cos;
+  Vec3 *fn;
+  unsigned char *zero, *kind;
+  int ready;               /* fn, zero and kind are filled (the first frame may stop short) */
+} EdgeCache;
+
+#define EDGE_TRY_SILHOUETTE 0x80u
+
+static const char edge_cache_tag;
+
+static void edge_cache_free(void *p) {
+  EdgeCache *c = p;
+  free(c->fn);
+  free(c->zero);
+  free(c->kind);
+  free(c);
+}
+
+/* The view-independent kinds of m's edges into c->kind (c->fn, c->zero set). */
+static void static_kinds(EdgeCache *c, const Mesh *m, const Vec3 *world) {
+  EdgeTest et = {m->tri_face, world, c->fn, c->zero, c->want & ~(unsigned)EDGE_SILHOUETTE,
+                 c->crease_cos, 0, v3(0, 0, 0), v3(0, 0, 0)};
+  for (int e = 0; e < m->nedges; e++) {
+    const MeshEdge *me = &m->edges[e];
+    unsigned kind = edge_kind_at(me, &et);
+    if (me->f[0] >= 0 && me->f[1] >= 0 && !(c->zero[me->f[0]] | c->zero[me->f[1]]))
+      kind |= EDGE_TRY_SILHOUETTE;
+    c->kind[e] = (unsigned char)kind;
+  }
+}
+
+/* The cache kept with m (which keeps_derived) for this transform, kinds
+** and crease angle, or a new one (not ready) kept with m in place of any
+** other. The mesh is the caller's to keep or free: the cache is an
+** addition to it, not a change. */
+static EdgeCache *edge_cache(const Mesh *m, Mat4 to_world, const SceneLines *ls) {
+  double ccos = crease_cos(ls->crease_angle);
+  EdgeCache *c = mesh_derived(m, &edge_cache_tag);
+  if (c && !memcmp(&c->to_world, &to_world, sizeof to_world) && c->want == ls->kinds &&
+      c->crease_cos == ccos)
+    return c;
+  c = xmalloc(sizeof *c);
+  *c = (EdgeCache){to_world, ls->kinds, ccos, xmalloc(((size_t)m->ntris + 1) * sizeof *c->fn),
+                   xmalloc((size_t)m->ntris + 1), xmalloc((size_t)m->nedges + 1), 0};
+  mesh_derived_set((Mesh *)m, &edge_cache_tag, c, edge_cache_free);
+  return c;
+}
+
+/* The silhouette test of edge me (edge_kind_at's): one face looks at the
+** viewer and the other away (or either is edge-on). */
+static inline int silhouette_at(const MeshEdge *me, const Vec3 *world, const Vec3 *fn, int ortho,
+                                Vec3 forward, Vec3 eye) {
+  Vec3 v = ortho ? forward : v3_sub(world[me->v[0]], eye);
+  return v3_dot(v, fn[me->f[0]]) * v3_dot(v, fn[me->f[1]]) <= 0;
+}
+
 /* Append id entries for obj's important edges (kinds computed by the caller). */
 static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
   if (out->n == *cap) {
@@ -170,6 +249,51 @@ static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
   out->n++;
 }
 
+/* Classify m's edges (object obj) in one pass, appending the important
+** ones. */
+static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m, const EdgeTest *et) {
+  const MeshEdge *me = m->edges;
+  for (int e = 0; e < m->nedges; e++) {
+#ifdef __GNUC__
+    if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
+      const MeshEdge *ahead = &me[e + EDGE_AHEAD];
+      if (ahead->f[0] >= 0) __builtin_prefetch(&et->fn[ahead->f[0]]);
+      if (ahead->f[1] >= 0) __builtin_prefetch(&et->fn[ahead->f[1]]);
+      __builtin_prefetch(&et->world[ahead->v[0]]);
+    }
+#endif
+    unsigned kind = edge_kind_at(&me[e], et);
+    if (!kind) continue;
+    add_edge(out, cap, obj, e, kind);
+    oe->id[e] = out->n;
+  }
+}
+
+/* The same from c's kinds: only the silhouette test is made again. */
+static void classify_kept(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
+                          const EdgeCache *c, const Vec3 *world, const Camera *cam) {
+  int ortho = cam->kind == CAMERA_ORTHO, sil = (c->want & EDGE_SILHOUETTE) != 0;
+  const MeshEdge *me = m->edges;
+  const unsigned char *ck = c->kind;
+  const Vec3 *fn = c->fn;
+  for (int e = 0; e < m->nedges; e++) {
+    unsigned kind = ck[e] & ~EDGE_TRY_SILHOUETTE;
+    if (sil && (ck[e] & EDGE_TRY_SILHOUETTE)) {
+#ifdef __GNUC__
+      if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
+        const MeshEdge *ahead = &me[e + EDGE_AHEAD];
+        __builtin_prefetch(&fn[ahead->f[0] > 0 ? ahead->f[0] : 0]);
+        __builtin_prefetch(&fn[ahead->f[1] > 0 ? ahead->f[1] : 0]);
+      }
+#endif
+      if (silhouette_at(&me[e], world, fn, ortho, cam->forward, cam->eye)) kind |= EDGE_SILHOUETTE;
+    }
+    if (!kind) continue;
+    add_edge(out, cap, obj, e, kind);
+    oe->id[e] = out->n;
+  }
+}
+
 void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam) {
   memset(out, 0, sizeof *out);
   out->nobj = nobj;
@@ -180,48 +304,46 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     LineObjEdges *oe = &out->obj[i];
     oe->mesh = m;
     oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
-    /* scratch, every entry written before it is read: world positions,
-    ** face normals and their zero flags (from the heap, which keeps the
-    ** earlier stages' freed, already mapped memory for reuse) */
+    /* An object that draws lines keeps its face normals and the kinds
+    ** that do not depend on the view with a mesh kept for later frames
+    ** (EdgeCache); the rest, and all of the others', are scratch, every
+    ** entry written before it is read (from the heap, which keeps the
+    ** earlier stages' freed, already mapped memory for reuse). */
+    EdgeCache *c = oe->lines && m->keeps_derived ? edge_cache(m, objs[i].object_to_world, oe->lines) : NULL;
     Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
-    Vec3 *fn = xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
-    unsigned char *zero = xmalloc((size_t)m->ntris + 1);
+    Vec3 *fn = c ? c->fn : xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
+    unsigned char *zero = c ? c->zero : xmalloc((size_t)m->ntris + 1);
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
     if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
       oe->lines = NULL;
-      free(world);
-      free(fn);
-      free(zero);
-      continue;
+    } else if (c && c->ready) {
+      face_fronts(oe->front, m, world, fn, cam);
+    } else {
+      face_normals(fn, zero, oe->front, m, world, cam);
     }
-    face_normals(fn, zero, oe->front, m, world, cam);
     if (oe->lines) {
-      EdgeTest et = {m->tri_face, world, fn, zero, oe->lines->kinds,
-                     crease_cos(oe->lines->crease_angle), cam->kind == CAMERA_ORTHO,
-                     cam->forward, cam->eye};
       int first = out->n;
-      const MeshEdge *me = m->edges;
-      for (int e = 0; e < m->nedges; e++) {
-#ifdef __GNUC__
-        if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
-          const MeshEdge *ahead = &me[e + EDGE_AHEAD];
-          if (ahead->f[0] >= 0) __builtin_prefetch(&fn[ahead->f[0]]);
-          if (ahead->f[1] >= 0) __builtin_prefetch(&fn[ahead->f[1]]);
-          __builtin_prefetch(&world[ahead->v[0]]);
+      if (c) {
+        if (!c->ready) {
+          static_kinds(c, m, world);
+          c->ready = 1;
         }
-#endif
-        unsigned kind = edge_kind_at(&me[e], &et);
-        if (!kind) continue;
-        add_edge(out, &cap, i, e, kind);
-        oe->id[e] = out->n;
+        classify_kept(out, &cap, i, oe, m, c, world, cam);
+      } else {
+        EdgeTest et = {m->tri_face, world, fn, zero, oe->lines->kinds,
+                       crease_cos(oe->lines->crease_angle), cam->kind == CAMERA_ORTHO,
+                       cam->forward, cam->eye};
+        classify(out, &cap, i, oe, m, &et);
       }
       build_adjacency(oe, m, out->edge_of + first, out->n - first);
     }
     free(world);
-    free(fn);
-    free(zero);
+    if (!c) {
+      free(fn);
+      free(zero);
+    }
   }
 }
 
