@@ -11,7 +11,7 @@
 SUMI=$1
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=${OUT:-$ROOT/build/test-out/progress}
-SLOW=$ROOT/tests/hostile/signal/slow.npr   # 3000 x 3000: a second or more
+SLOW=$ROOT/tests/hostile/signal/slow.npr   # 6000 x 6000: a second or more
 PTY="python3 $ROOT/tests/tools/pty_run.py"
 rm -rf "$OUT"; mkdir -p "$OUT"
 passed=0; failed=0
