@@ -79,7 +79,7 @@ $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS) -c -o $@ $<
 
-$(BUILD)/src/geom/poly2d_bridge.o: CXXFLAGS += $(P2D_FLAGS)
+$(BUILD)/src/geom/poly2d_bridge.o $(BUILD)/src/geom/csg_bridge.o: CXXFLAGS += $(P2D_FLAGS)
 
 $(BUILD)/unit/%: tests/unit/%.c tests/unit/unit.h $(CORE_OBJ) | $(OIIO_LIB) $(BUILD)/stdlib
 	@mkdir -p $(dir $@)

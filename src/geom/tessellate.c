@@ -675,6 +675,42 @@ static void polygon_corner_uvs(const SceneGeometry *g, Mesh *m) {
   }
 }
 
+/* The same for the per-corner normals a CSG result carries (face_nrm). */
+static void polygon_corner_normals(const SceneGeometry *g, Mesh *m) {
+  m->corner_nrm = xmalloc(((size_t)m->ntris + 1) * sizeof *m->corner_nrm);
+  for (int t = 0; t < m->ntris; t++) {
+    int f = m->tri_face[t];
+    for (int k = 0; k < 3; k++) {
+      int v = m->tri[t][k], c = g->face_start[f];
+      while (c < g->face_start[f + 1] - 1 && g->face_index[c] != v) c++;
+      m->corner_nrm[t][k] = g->face_nrm[c];
+    }
+  }
+}
+
+typedef struct EdgeKey2 { int a, b; } EdgeKey2;
+
+static int cmp_key2(const void *pa, const void *pb) {
+  const EdgeKey2 *x = pa, *y = pb;
+  return x->a != y->a ? (x->a < y->a ? -1 : 1) : (x->b > y->b) - (x->b < y->b);
+}
+
+/* A mesh drawn as it is: its creases (a CSG result's intersection curves)
+** tag their edges, so `lines` draws them as creases. */
+static void tag_creases(const SceneGeometry *g, Mesh *m) {
+  EdgeKey2 *k = xmalloc((size_t)g->ncreases * sizeof *k);
+  for (int i = 0; i < g->ncreases; i++) {
+    int a = g->creases[i].a, b = g->creases[i].b;
+    k[i] = (EdgeKey2){a < b ? a : b, a < b ? b : a};
+  }
+  qsort(k, (size_t)g->ncreases, sizeof *k, cmp_key2);
+  for (int e = 0; e < m->nedges; e++) {
+    EdgeKey2 q = {m->edges[e].v[0], m->edges[e].v[1]};
+    if (bsearch(&q, k, (size_t)g->ncreases, sizeof *k, cmp_key2)) m->edges[e].sharpness = 10;
+  }
+  free(k);
+}
+
 Mesh *tess_polygons(const SceneGeometry *g) {
   TessBuf b = {0};
   int maxn = 0;
@@ -700,8 +736,12 @@ Mesh *tess_polygons(const SceneGeometry *g) {
   Mesh *m = buf_to_mesh(&b, 0);
   if (g->kind == GEOM_MESH && g->face_uv) polygon_corner_uvs(g, m);
   mesh_compute_normals(m);
-  mesh_smooth_corners(m, TESS_SMOOTH_ANGLE);
+  if (g->kind == GEOM_MESH && g->face_nrm) polygon_corner_normals(g, m);
+  else mesh_smooth_corners(m, TESS_SMOOTH_ANGLE);
+  if (g->kind == GEOM_MESH && g->face_group)   /* the source faces a CSG result was cut from */
+    for (int t = 0; t < m->ntris; t++) m->tri_face[t] = g->face_group[m->tri_face[t]];
   mesh_build_edges(m);
+  if (g->kind == GEOM_MESH && g->ncreases > 0 && g->subdiv_level == 0) tag_creases(g, m);
   return m;
 }
 

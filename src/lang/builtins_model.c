@@ -7,8 +7,11 @@
 ** children (eval.c). One table row each, at the end.
 */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "../geom/csg.h"
+#include "../geom/shape2d.h"
 #include "../geom/shapes.h"
 #include "builtins.h"
 
@@ -168,6 +171,73 @@ static Value bi_multmatrix(Eval *ev, Value *a, int n, const ENode *call) {
   return ev_xform(ev, m);
 }
 
+/* ---- CSG ------------------------------------------------------------- */
+
+/* Where operand i of n of a CSG call stands: its argument, or (a call
+** statement's child) the statement that made it. */
+static SrcRange operand_loc(const ENode *call, int n, int i, const SceneGeometry *g) {
+  return n == call->n ? bi_arg_loc(call, i) : g->loc;
+}
+
+/* union, difference, intersection: of 2D shapes through Clipper
+** (shape2d.h), of 3D shapes through CGAL's corefinement (csg.h); the empty
+** shape goes with either. */
+static Value csg(Eval *ev, Value *a, int n, const ENode *call, SumiCsgOp op) {
+  const SceneGeometry **g = xmalloc((size_t)(n ? n : 1) * sizeof *g);
+  int first2d = -1, first3d = -1;
+  Value r = val_err();
+  for (int i = 0; i < n; i++) {
+    if (a[i].kind != V_GEOM) {
+      bi_type_error(ev, call, i, "a shape", &a[i]);
+      goto out;
+    }
+    g[i] = a[i].u.g;
+    if (shape2d_is_empty(g[i])) continue;
+    if (shape2d_is_2d(g[i])) { if (first2d < 0) first2d = i; }
+    else if (first3d < 0) first3d = i;
+  }
+  if (first2d >= 0 && first3d >= 0) {
+    int late = first2d > first3d ? first2d : first3d;
+    ev_error(ev, operand_loc(call, n, late, g[late]), "`%s` combines 2D shapes or 3D shapes, not both; this one is %s "
+             "and an earlier one %s (linear_extrude the 2D ones first)", bi_name(call), late == first2d ? "2D" : "3D",
+             late == first2d ? "3D" : "2D");
+    goto out;
+  }
+  char err[400];
+  int bad = -1;
+  SceneGeometry *res;
+  if (first2d >= 0) {
+    SumiP2dOp op2 = op == SUMI_CSG_UNION ? SUMI_P2D_UNION : op == SUMI_CSG_DIFFERENCE ? SUMI_P2D_DIFFERENCE
+                                                                                       : SUMI_P2D_INTERSECTION;
+    res = shape2d_boolean(arena(ev), op2, g, n, err, sizeof err);
+  } else res = csg_boolean(arena(ev), op, g, n, &bad, err, sizeof err);
+  if (!res) {
+    if (bad >= 0) ev_error(ev, operand_loc(call, n, bad, g[bad]), "`%s`: this shape %s", bi_name(call), err);
+    else ev_error(ev, call->range, "`%s`: %s", bi_name(call), err);
+    goto out;
+  }
+  r = val_ptr(V_GEOM, res);
+  int same = 0;   /* one operand left: the result is that shape, where it was made */
+  for (int i = 0; i < n; i++) same |= res == g[i];
+  if (!same) res->loc = call->range;
+out:
+  free(g);
+  return r;
+}
+
+/* union() { ... } or union(a, b, ...): everything the shapes enclose */
+static Value bi_union(Eval *ev, Value *a, int n, const ENode *call) { return csg(ev, a, n, call, SUMI_CSG_UNION); }
+
+/* difference() { ... }: the first shape less all the others */
+static Value bi_difference(Eval *ev, Value *a, int n, const ENode *call) {
+  return csg(ev, a, n, call, SUMI_CSG_DIFFERENCE);
+}
+
+/* intersection() { ... }: what every shape encloses */
+static Value bi_intersection(Eval *ev, Value *a, int n, const ENode *call) {
+  return csg(ev, a, n, call, SUMI_CSG_INTERSECTION);
+}
+
 /* ---- the table ---------------------------------------------------------- */
 
 /* The round shapes are exact surfaces: OpenSCAD's `$fn`, `$fa`, `$fs` are
@@ -182,6 +252,9 @@ static const Builtin model_builtins[] = {
   {"polyhedron", bi_polyhedron, "points,faces,convexity", 2, 3, BI_FUNCTION},
   {"mirror", bi_mirror, "v", 1, 1, BI_FUNCTION},
   {"multmatrix", bi_multmatrix, "m", 1, 1, BI_FUNCTION},
+  {"union", bi_union, "", 0, -1, BI_CHILDREN_ARGS},
+  {"difference", bi_difference, "", 0, -1, BI_CHILDREN_ARGS},
+  {"intersection", bi_intersection, "", 0, -1, BI_CHILDREN_ARGS},
 };
 
 const Builtin *builtin_model_table(int *n) {

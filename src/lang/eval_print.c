@@ -340,7 +340,10 @@ static void print_mesh(const char *pre, const SceneGeometry *g, FILE *out) {
       fputc('\n', out);
     }
   }
-  if (!g->subdiv_level) return;
+  if (!g->subdiv_level) {   /* a CSG result: its intersection curves */
+    if (g->ncreases) fprintf(out, "%screases %d\n", pre, g->ncreases);
+    return;
+  }
   fprintf(out, "%ssubdiv %s level %d boundary %s\n", pre, g->subdiv_scheme, g->subdiv_level,
           g->subdiv_boundary ? g->subdiv_boundary : "edge_and_corner");
   for (int i = 0; i < g->ncreases; i++) {

@@ -25,7 +25,8 @@ static const Habit habits[] = {
   /* POV-Ray */
   {HABIT_BLOCK, "sphere|box|cylinder|cone|torus|plane|mesh|mesh2|polygon|prism|lathe|sor|superellipsoid", SHAPE},
   {HABIT_BLOCK, "union|difference|intersection|merge",
-   "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
+   "CSG is written as in OpenSCAD, a call with the shapes as children: `difference() { cube(2, center = true); "
+   "sphere(1.3); }` (union, difference, intersection; POV-Ray's merge is union)"},
   {HABIT_BLOCK, "light_source", "a light is `light { position [x, y, z]; }` (or `direction` for a sun)"},
   {HABIT_BLOCK, "pigment|texture|finish|normal|material", LOOK},
   {HABIT_BLOCK, "background|global_settings", "the background colour is `output { background #rrggbb; }`"},
@@ -40,8 +41,8 @@ static const Habit habits[] = {
   /* OpenSCAD */
   {HABIT_MODULE, "resize", "sumi has no resize: `scale([sx, sy, sz])` the shape"},
   {HABIT_MODULE, "color", LOOK},
-  {HABIT_MODULE, "union|difference|intersection|hull|minkowski|render",
-   "sumi has no CSG: each `object { geometry …; }` is drawn as it is"},
+  {HABIT_MODULE, "hull|minkowski", "sumi has no hull or minkowski: its CSG is union, difference and intersection"},
+  {HABIT_MODULE, "render", "sumi needs no render(): union, difference and intersection are computed where they stand"},
   {HABIT_MODULE, "projection", "sumi has no projection of a 3D shape to 2D: draw the 2D shape itself "
                                "(circle, square, polygon, text) and `linear_extrude` it"},
   {HABIT_MODULE, "import", "a mesh file is read by `mesh(\"file.obj\")`, the geometry of an object"},

@@ -196,6 +196,11 @@ static void object_to_world(RenderObject *o) {
                       v3_cross(v3(M.m[0][1], M.m[1][1], M.m[2][1]), v3(M.m[0][2], M.m[1][2], M.m[2][2])));
   if (det < 0) {   /* a mirroring transform: keep the winding counter-clockwise */
     o->subdiv_kept = 0;   /* changed: not the refinement the cache knows */
+    /* tagged creases (subdivision, CSG curves) survive the rebuild: edge k
+    ** of a turned triangle is its edge 2 - k before */
+    float (*sharp)[3] = m->edges ? xmalloc(((size_t)m->ntris + 1) * sizeof *sharp) : NULL;
+    for (int t = 0; sharp && t < m->ntris; t++)
+      for (int k = 0; k < 3; k++) sharp[t][k] = m->edges[m->tri_edges[t][k]].sharpness;
     for (int t = 0; t < m->ntris; t++) {
       int k = m->tri[t][1];
       m->tri[t][1] = m->tri[t][2];
@@ -213,6 +218,10 @@ static void object_to_world(RenderObject *o) {
       }
     }
     mesh_build_edges(m);
+    for (int t = 0; sharp && t < m->ntris; t++)
+      for (int k = 0; k < 3; k++)
+        if (sharp[t][2 - k] > 0) m->edges[m->tri_edges[t][k]].sharpness = sharp[t][2 - k];
+    free(sharp);
   }
 }
 
