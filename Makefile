@@ -50,7 +50,8 @@ TOOLS    := $(BUILD)/imgcmp
 DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjson-dev libpng-dev \
                    libassimp-dev libxml2-dev libpotrace-dev librsvg2-bin clang libclang-rt-14-dev \
                    assimp-testmodels python3-skimage libpolyclipping-dev libcgal-dev libgmp-dev libmpfr-dev \
-                   libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk
+                   libfreetype-dev libharfbuzz-dev libfontconfig-dev fonts-dejavu-core fonts-noto-cjk \
+                   openscad python3-numpy
 
 .PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
         bench-eval bench-solve bench-tiles bench-bigmesh gallery clean help example install check-cp

@@ -13,6 +13,7 @@
 #   tests/tiles.sh      every example as tiles, assembled: the whole render's bytes
 #   tests/frames.sh     frame steps, lists, --only and --resume
 #   tests/progress.sh   the progress line on a terminal, none off one
+#   tests/openscad.sh   tests/openscad/x.npr and x.scad: the same solid (STL volume, box)
 #
 # A line "// args: ..." among the first three gives extra options (and in
 # tests/errors "// command: render" another subcommand); in render tests a line
@@ -253,6 +254,10 @@ subsuite frames env OUT="$OUT/frames" sh "$ROOT/tests/frames.sh" "$SUMI"
 # The progress line on a (pseudo-)terminal, and nothing of it off one
 # (tests/progress.sh).
 subsuite progress env OUT="$OUT/progress" sh "$ROOT/tests/progress.sh" "$SUMI"
+
+# The same solids as OpenSCAD: programs written both ways, their exported
+# STL volumes and boxes compared (tests/openscad.sh; skips without openscad).
+subsuite openscad env OUT="$OUT/openscad" sh "$ROOT/tests/openscad.sh" "$SUMI"
 
 # Real crease patterns against Flat-Folder's counts (the fast rows; all of
 # them: make check-cp). Skips cleanly without ../shared.

@@ -1,0 +1,1 @@
+difference() { cube(2, center = true); sphere(1.3, $fn = 96); }
