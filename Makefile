@@ -54,7 +54,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    openscad python3-numpy
 
 .PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
-        bench-eval bench-solve bench-tiles bench-bigmesh gallery clean help example install check-cp
+        bench-eval bench-solve bench-tiles bench-bigmesh bench-csg gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -182,11 +182,17 @@ bench-parse: deps all
 bench-eval: deps all
 	sh bench/eval.sh $(BUILD)/sumi
 
+# CSG: the difference of two 100k-triangle meshes, sumi against OpenSCAD's
+# own render of the same program (minutes: OpenSCAD's Nef polyhedra).
+bench-csg: PEER_PACKAGES := openscad python3 time
+bench-csg: deps all
+	sh bench/csg.sh $(BUILD)/sumi
+
 # The layer-order solver against Flat-Folder under node (../shared; minutes).
 bench-solve: deps all
 	sh bench/solve.sh $(BUILD)/sumi
 
-bench: deps all bench-parse bench-eval
+bench: deps all bench-parse bench-eval bench-csg
 	sh bench/run.sh $(BUILD)/sumi
 
 # A 7680x4320 frame of the lines scene whole and as 8 tile jobs run 2 at a
@@ -253,6 +259,7 @@ help:
 	@echo "make test-slurm the Slurm recipe on a one-node cluster started here (installs slurm-wlm, munge)"
 	@echo "make bench / bench-parse / bench-eval   benchmarks with peers"
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
+	@echo "make bench-csg   difference of two 100k-triangle meshes against OpenSCAD (CPU)"
 	@echo "make bench-tiles a 7680x4320 frame whole and as 8 tile jobs (CPU, memory)"
 	@echo "make bench-bigmesh  level-4 Wuson, duck, engine, torus: per-stage times, memory"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
