@@ -731,7 +731,7 @@ static int cmd_export(const Options *o) {
   arena_init(&arena);
   Scene scene;
   scene_init(&scene);
-  int status = evaluate(o, &arena, &scene);
+  int status = evaluate(o, &arena, &scene, NULL);
   if (status == 0) status = mesh_export_scene(&scene, o->output) ? 0 : 1;
   scene_free(&scene);
   arena_free(&arena);

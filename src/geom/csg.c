@@ -24,17 +24,37 @@ _Static_assert(sizeof(int[3]) == 3 * sizeof(int), "a triangle is three ints");
 
 /* ---- operands ------------------------------------------------------------ */
 
+/* Drop m's triangles that name one vertex twice (a polygon with a point
+** repeated, as a profile's point on the axis of a rotate_extrude makes):
+** they have no area, and their neighbours meet across them. */
+static void drop_repeated(Mesh *m) {
+  int n = 0;
+  for (int t = 0; t < m->ntris; t++) {
+    const int *c = m->tri[t];
+    if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
+    memmove(m->tri[n], c, sizeof m->tri[n]);
+    m->tri_face[n] = m->tri_face[t];
+    if (m->corner_nrm) memmove(m->corner_nrm[n], m->corner_nrm[t], sizeof m->corner_nrm[n]);
+    if (m->corner_uv) memmove(m->corner_uv[n], m->corner_uv[t], sizeof m->corner_uv[n]);
+    n++;
+  }
+  if (n == m->ntris) return;
+  m->ntris = n;
+  mesh_build_edges(m);
+}
+
 Mesh *csg_operand_mesh(const SceneGeometry *g, char *err, size_t errlen) {
-  if (g->kind == GEOM_PATCHES)
-    return tess_uniform(g, g->tess_n > 0 ? g->tess_n : CSG_SEGMENTS);
-  if (g->subdiv_level > 0) {
+  Mesh *m;
+  if (g->kind == GEOM_PATCHES) m = tess_uniform(g, g->tess_n > 0 ? g->tess_n : CSG_SEGMENTS);
+  else if (g->subdiv_level > 0) {
     SumiOsdBoundary boundary;
     subdiv_boundary_parse(g->subdiv_boundary, &boundary);   /* checked by the evaluator */
-    Mesh *m = subdiv_mesh(g, boundary, err, errlen);
-    if (m && !m->edges) mesh_build_edges(m);
-    return m;
-  }
-  return tess_polygons(g);
+    m = subdiv_mesh(g, boundary, err, errlen);
+  } else m = tess_polygons(g);
+  if (!m) return NULL;
+  drop_repeated(m);
+  if (!m->edges) mesh_build_edges(m);
+  return m;
 }
 
 double csg_mesh_volume(const Mesh *m) {

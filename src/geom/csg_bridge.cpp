@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -67,11 +68,20 @@ struct SourceVisitor : PMP::Corefinement::Default_visitor<SM> {
 void build(const SumiCsgMesh &m, int first, SM &out) {
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
-  pts.reserve((size_t)m.nverts);
-  polys.reserve((size_t)m.ntris);
-  for (int v = 0; v < m.nverts; v++) pts.emplace_back(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]);
-  for (int t = 0; t < m.ntris; t++)
-    polys.push_back({(size_t)m.tri[3 * t], (size_t)m.tri[3 * t + 1], (size_t)m.tri[3 * t + 2]});
+  std::vector<std::size_t> id((size_t)m.nverts, SIZE_MAX);   // only the points a triangle uses:
+  polys.reserve((size_t)m.ntris);                             // a mesh has no lone vertices
+  for (int t = 0; t < m.ntris; t++) {
+    std::vector<std::size_t> f(3);
+    for (int k = 0; k < 3; k++) {
+      int v = m.tri[3 * t + k];
+      if (id[(size_t)v] == SIZE_MAX) {
+        id[(size_t)v] = pts.size();
+        pts.emplace_back(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]);
+      }
+      f[(size_t)k] = id[(size_t)v];
+    }
+    polys.push_back(f);
+  }
   if (!PMP::is_polygon_soup_a_polygon_mesh(polys)) throw std::runtime_error("is not a manifold surface");
   PMP::polygon_soup_to_polygon_mesh(pts, polys, out);
   SrcMap s = out.add_property_map<Face, int>(SRC, -1).first;
@@ -179,6 +189,9 @@ int sumi_csg_run(SumiCsgOp op, const SumiCsgMesh *in, int n, SumiCsgResult *out,
                                  "or at a point); move one a little");
     result(m[0], out);
     return 1;
+  } catch (const CGAL::Failure_exception &e) {   // a precondition of CGAL's, in one line
+    sumi_csg_free(out);
+    fail(err, errlen, "is not a mesh CGAL can take (%s)", e.expression().c_str());
   } catch (const std::exception &e) {
     sumi_csg_free(out);
     fail(err, errlen, "%s", e.what());
