@@ -19,19 +19,20 @@
 /* Samples are binned in tiles of 2^bits x 2^bits pixels: a triangle is
 ** tested only at the samples of the tiles its box reaches, so the work
 ** follows the length of the lines, not the resolution. Small tiles test
-** fewer samples a triangle (a fine mesh's triangles are a pixel or two);
-** the tile tables grow with their number, so bits grows from
-** LINE_REF_TILE_BITS until there are at most LINE_REF_MAX_TILES (2^18:
-** 4 x 4 tiles at 1080p, 1 MB a table; 2^20 made a 7680 x 4320 tile job's
-** tables 10 MB, and 2 x 2 tiles at 1080p were slower: their passes over
-** the tables cost more than the samples they spare). Which
-** triangle a sample finds does not depend on the tiles (every triangle
-** reaching a sample is tested there, in list order). */
+** fewer samples a triangle, but the passes over the tile tables grow with
+** their number, so a tile is about as wide as the edges are long on
+** screen, from 2 to 16 pixels (mean span: Wuson subdivided at 1080p 2.5
+** px, 2x2 tiles; a CAD engine 7 px, 4x4; the bench teapot 14 px, 8x8, 31M
+** instructions where 2x2 took 67M; that teapot at 7680x4320, 16x16), and
+** there are at most LINE_REF_MAX_TILES. Which triangle a sample finds does
+** not depend on the tiles (every triangle reaching a sample is tested
+** there, in list order). */
 #define LINE_REF_TILE_BITS 1
-#define LINE_REF_MAX_TILES (1 << 18)
+#define LINE_REF_MAX_TILES (1 << 20)
 
-static int tile_bits(int w, int h) {
+static int tile_bits(int w, int h, double mean_span) {
   int bits = LINE_REF_TILE_BITS;
+  while (bits < 4 && (double)(2 << bits) <= mean_span) bits++;
   while (bits < 8 && (double)((w >> bits) + 1) * ((h >> bits) + 1) > LINE_REF_MAX_TILES) bits++;
   return bits;
 }
@@ -317,7 +318,7 @@ static int tile_of(float x, float y, int tw, int bits, int w, int h) {
 ** tiles that hold samples in *sat. */
 static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
   int w = ref->width, h = ref->height;
-  sm->bits = tile_bits(w, h);
+  sm->bits = tile_bits(w, h, (double)ref->step0[ref->nids] / (ref->nids ? ref->nids : 1));
   sm->tw = (w + (1 << sm->bits) - 1) >> sm->bits;
   sm->th = (h + (1 << sm->bits) - 1) >> sm->bits;
   size_t nt = (size_t)sm->tw * sm->th;
