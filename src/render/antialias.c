@@ -25,15 +25,22 @@ static int corner_of(const int t[3], int v) {
   return t[0] == v ? 0 : t[1] == v ? 1 : t[2] == v ? 2 : -1;
 }
 
-/* Whether the shading of o jumps across edge k of triangle t into
-** triangle g: their corner normals differ at a shared vertex, or (lit
-** flat shading) their planes do. Bokashi's colour follows the point's
-** place alone (its normal is the direction from the centre), never the
-** mesh's normals. */
-static int shading_jumps(const RenderObject *o, int t, int k, int g) {
-  const Mesh *m = o->mesh;
+/* Whether the shading of o can jump between its triangles at all: lit
+** flat shading (facets), or corner normals that may differ. Bokashi's
+** colour follows the point's place alone (its normal is the direction from
+** the centre), never the mesh's normals. */
+static int may_jump(const RenderObject *o) {
   if (o->style->kind == SHADE_FLAT && !o->style->lit) return 0;   /* one colour, facets or not */
   if (o->style->kind == SHADE_BOKASHI) return 0;
+  return o->style->kind == SHADE_FLAT || o->wcnrm;
+}
+
+/* Whether the shading of o jumps across edge k of triangle t into
+** triangle g: their corner normals differ at a shared vertex, or (lit
+** flat shading) their planes do. */
+static int shading_jumps(const RenderObject *o, int t, int k, int g) {
+  const Mesh *m = o->mesh;
+  if (!may_jump(o)) return 0;
   if (o->style->kind == SHADE_FLAT) {
     float n[2][3];
     for (int i = 0; i < 2; i++) {
@@ -113,6 +120,8 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, 
     any |= code[v];
   }
   const int32_t (*nb)[3] = mesh_neighbours(m);
+  const unsigned char *back = o->backfacing;
+  int jumps = may_jump(o);   /* else only the surface's end and its turning away stop a walk */
   a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
   for (int t = 0; t < m->ntris; t++) {
     const int *c = m->tri[t];
@@ -124,7 +133,7 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, 
       int g = neighbour(m, nb, t, k);
       /* the walk stops where the surface ends, turns away (an outline)
       ** or its shading jumps */
-      if (g >= 0 && (o->backfacing[g] != o->backfacing[t] || shading_jumps(o, t, k, g))) g = -1;
+      if (g >= 0 && (back[g] != back[t] || (jumps && shading_jumps(o, t, k, g)))) g = -1;
       a->adj[t][k] = g;
     }
   }

@@ -37,8 +37,9 @@ static double crease_cos(double angle) {
   return cos((angle > LINE_COPLANAR_DEG ? angle : LINE_COPLANAR_DEG) * M_PI / 180.0);
 }
 
-/* Kinds of edge me. */
-static inline unsigned edge_kind_at(const MeshEdge *me, const EdgeTest *et) {
+/* Kinds of edge me (inlined in each loop over the edges). */
+static inline __attribute__((always_inline)) unsigned edge_kind_at(const MeshEdge *me,
+                                                                   const EdgeTest *et) {
   const int *tri_face = et->tri_face;
   const Vec3 *fn = et->fn;
   unsigned want = et->want;
@@ -251,18 +252,21 @@ static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
 
 /* Classify m's edges (object obj) in one pass, appending the important
 ** ones. */
-static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m, const EdgeTest *et) {
+static inline __attribute__((always_inline)) void classify(LineEdges *out, int *cap, int obj,
+                                                            LineObjEdges *oe, const Mesh *m,
+                                                            const EdgeTest *test) {
+  const EdgeTest et = *test;   /* a local copy: the appends below cannot change it */
   const MeshEdge *me = m->edges;
   for (int e = 0; e < m->nedges; e++) {
 #ifdef __GNUC__
     if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
       const MeshEdge *ahead = &me[e + EDGE_AHEAD];
-      if (ahead->f[0] >= 0) __builtin_prefetch(&et->fn[ahead->f[0]]);
-      if (ahead->f[1] >= 0) __builtin_prefetch(&et->fn[ahead->f[1]]);
-      __builtin_prefetch(&et->world[ahead->v[0]]);
+      if (ahead->f[0] >= 0) __builtin_prefetch(&et.fn[ahead->f[0]]);
+      if (ahead->f[1] >= 0) __builtin_prefetch(&et.fn[ahead->f[1]]);
+      __builtin_prefetch(&et.world[ahead->v[0]]);
     }
 #endif
-    unsigned kind = edge_kind_at(&me[e], et);
+    unsigned kind = edge_kind_at(&me[e], &et);
     if (!kind) continue;
     add_edge(out, cap, obj, e, kind);
     oe->id[e] = out->n;
