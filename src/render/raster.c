@@ -92,10 +92,9 @@ static void project(RastVert *v, int width, int height) {
   v->iw = (float)inv;
 }
 
-void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
+/* rast_vertex with the guard band's gx, gy worked out. */
+static inline void vertex_in(RastVert *v, const double clip[4], double gx, double gy, int width, int height) {
   ClipVert cv = {{clip[0], clip[1], clip[2], clip[3]}, {0, 0}};
-  /* guard band: |x/w| <= gx puts pixel x within RAST_GUARD_PX of the image */
-  double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
   for (int k = 0; k < 4; k++) v->h[k] = clip[k];
   if (!(isfinite(clip[0]) && isfinite(clip[1]) && isfinite(clip[2]) && isfinite(clip[3]))) {
     v->outcode = RAST_INVALID;   /* NaN or infinite: its triangles are dropped */
@@ -105,6 +104,21 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
   v->outcode = outcode(&cv, gx, gy);
   if (v->outcode) { v->X = v->Y = 0; v->z = v->iw = 0; return; }
   project(v, width, height);
+}
+
+void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
+  /* guard band: |x/w| <= gx puts pixel x within RAST_GUARD_PX of the image */
+  double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
+  vertex_in(v, clip, gx, gy, width, height);
+}
+
+void rast_vertices(RastVert *out, const float (*pos)[3], int n, const double m[4][4], int width, int height) {
+  double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
+  for (int v = 0; v < n; v++) {
+    double x = pos[v][0], y = pos[v][1], z = pos[v][2], clip[4];
+    for (int i = 0; i < 4; i++) clip[i] = m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
+    vertex_in(&out[v], clip, gx, gy, width, height);
+  }
 }
 
 /* Plane of an attribute with values f[0..2] at pixel positions (x, y):

@@ -80,6 +80,9 @@ typedef struct RastVert {
 } RastVert;
 
 void rast_vertex(RastVert *v, const double clip[4], int width, int height);
+/* rast_vertex for n points pos (world space) taken to clip coordinates by
+** m (camera.h's world_to_clip, as camera_to_clip does it), into out. */
+void rast_vertices(RastVert *out, const float (*pos)[3], int n, const double m[4][4], int width, int height);
 
 /* Set up triangle (v[0], v[1], v[2]) for a width x height target and
 ** append it to list, clipped against the near and far planes and the guard

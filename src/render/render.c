@@ -580,12 +580,8 @@ static void project_chunk(void *ctx, int k) {
   SetupJob *job = ctx;
   const SetupChunk *c = &job->chunks[k];
   const RenderObject *o = &job->f->objects[c->object];
-  for (int v = c->start; v < c->end; v++) {
-    const float *p = o->wpos[v];
-    double clip[4];
-    camera_to_clip(&job->f->camera, v3(p[0], p[1], p[2]), clip);
-    rast_vertex(&job->verts[c->object][v], clip, job->gw, job->gh);
-  }
+  rast_vertices(&job->verts[c->object][c->start], (const float(*)[3])&o->wpos[c->start], c->end - c->start,
+                job->f->camera.world_to_clip.m, job->gw, job->gh);
 }
 
 /* Is a triangle none of whose vertices needs clipping wholly outside the
