@@ -22,7 +22,7 @@ CXXFLAGS += -std=c++17 -Wall -Wextra -MMD -MP -fPIC
 # The 2D bridge: Clipper's header, and CGAL's interval arithmetic, which
 # needs the rounding mode honoured (its start-up check of it is off, as
 # valgrind, for make valgrind, does not emulate rounding modes).
-P2D_FLAGS := -I/usr/include/polyclipping -frounding-math -DCGAL_DISABLE_ROUNDING_MATH_CHECK
+P2D_FLAGS := -I/usr/include/polyclipping -frounding-math -DCGAL_DISABLE_ROUNDING_MATH_CHECK -DCGAL_ALWAYS_ROUND_TO_NEAREST
 LDLIBS  := -lxml2 -lpotrace -lpng16 -lcjson -losdCPU -lassimp -lpolyclipping -lgmp -lmpfr \
            -lharfbuzz -lfontconfig -lfreetype -ldl -lm -pthread -lstdc++
 
