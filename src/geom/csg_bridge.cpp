@@ -12,6 +12,7 @@
 #include "csg_bridge.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Random.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
@@ -172,6 +173,10 @@ int sumi_csg_run(SumiCsgOp op, const SumiCsgMesh *in, int n, SumiCsgResult *out,
   if (!bad) bad = &dummy;
   *bad = -1;
   try {
+    // CGAL's default random source (the box intersections' choices) is
+    // seeded from the clock: from a fixed seed at every call, the same
+    // scene gives the same triangles in every run, whatever came before
+    CGAL::get_default_random() = CGAL::Random(0);
     std::vector<SM> m((size_t)n);
     int first = 0;
     for (int k = 0; k < n; k++) {

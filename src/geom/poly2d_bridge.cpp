@@ -8,6 +8,7 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Random.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <clipper.hpp>
@@ -142,6 +143,11 @@ void mark_nesting(Cdt &cdt) {
 }
 
 void triangulate(const SumiP2dPolys *in, std::vector<double> &pts, std::vector<int> &tris) {
+  // the triangulation's insertion order shuffles with CGAL's default
+  // random source, seeded from the clock; points on one circle (a regular
+  // polygon) have many Delaunay triangulations, so a fixed seed at every
+  // call makes the same shape give the same triangles in every run
+  CGAL::get_default_random() = CGAL::Random(0);
   Cdt cdt;
   int n = in->start[in->ncontours];
   pts.assign(in->xy, in->xy + 2 * n);
