@@ -288,6 +288,23 @@ static void warn_nothing_drawn(const Scene *sc, int main_file) {
                st->name ? st->name : "", st->name ? "`" : "");
 }
 
+/* `shade origami` shades origami paper (render/origami.c); an object's
+** surface in it is drawn with Phong shading: a warning at the first such
+** object of each style, for check and render. */
+static void warn_origami_shade_on_objects(const Scene *sc) {
+  for (int s = 0; s < sc->nstyles; s++) {
+    const SceneStyle *st = &sc->styles[s];
+    if (st->shade.kind != SHADE_ORIGAMI) continue;
+    for (int i = 0; i < sc->nobjects; i++)
+      if (sc->objects[i].style == s) {
+        diag_warning(sc->objects[i].loc, "%s%s%s has `shade origami`, which shades origami paper: "
+                     "this object is drawn with Phong shading", st->name ? "style `" : "its style",
+                     st->name ? st->name : "", st->name ? "`" : "");
+        break;
+      }
+  }
+}
+
 /* sumi check FILE: parse and evaluate, diagnostics only. */
 static int cmd_check(const Options *o) {
   Arena arena;
@@ -297,6 +314,7 @@ static int cmd_check(const Options *o) {
   int file;
   int status = evaluate(o, &arena, &scene, &file);
   if (status == 0) warn_nothing_drawn(&scene, file);
+  if (status == 0) warn_origami_shade_on_objects(&scene);
   if (status == 0 && origami_check_scene(&scene) > 0) status = 1;   /* faces, orders, flat-foldability */
   scene_free(&scene);
   arena_free(&arena);
@@ -563,6 +581,7 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
   double t1 = now_seconds();
   int ok = prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0;
   if (ok) warn_nothing_drawn(&scene, file);
+  if (ok) warn_origami_shade_on_objects(&scene);
   if (ok && scene_any_image(&scene, image_read_needs_bridge)) image_bridge_prefetch();
   if (ok && origami_check_scene(&scene) == 0) {
     stats_record("parse", t1 - t0);

@@ -38,7 +38,7 @@ static const ShadeFn models[] = {
   /* SHADE_THRESHOLD */ shade_threshold,
   /* SHADE_BOKASHI */   shade_bokashi,
   /* SHADE_INK */       shade_ink,
-  /* SHADE_ORIGAMI */   shade_phong,
+  /* SHADE_ORIGAMI */   shade_phong,   /* paper is origami.c's; an object gets a warning (main.c) */
 };
 
 ShadeFn shade_model(ShadeKind kind) {
