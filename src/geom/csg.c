@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shapes.h"
 #include "subdiv.h"
 #include "tessellate.h"
 
@@ -239,13 +240,6 @@ static SceneGeometry *result_geometry(Arena *ar, const SumiCsgResult *r, SumiCsg
 
 /* ---- the operation ------------------------------------------------------- */
 
-static SceneGeometry *empty_shape(Arena *a) {
-  SceneGeometry *g = arena_alloc(a, sizeof *g);
-  g->kind = GEOM_MESH;
-  g->face_start = arena_alloc(a, sizeof *g->face_start);
-  return g;
-}
-
 static int is_empty(const SceneGeometry *g) {
   return g->kind == GEOM_MESH ? g->nfaces == 0 : g->npatches == 0;
 }
@@ -261,7 +255,7 @@ SceneGeometry *csg_boolean(Arena *a, SumiCsgOp op, const SceneGeometry *const *g
     if (!is_empty(g[k])) use[nu++] = k;
     else if (op == SUMI_CSG_INTERSECTION || (op == SUMI_CSG_DIFFERENCE && k == 0)) { nu = 0; break; }
   }
-  if (nu == 0 || (op == SUMI_CSG_DIFFERENCE && use[0] != 0)) { free(use); return empty_shape(a); }
+  if (nu == 0 || (op == SUMI_CSG_DIFFERENCE && use[0] != 0)) { free(use); return shape_empty(a); }
   if (nu == 1) {   /* one shape: itself */
     SceneGeometry *one = (SceneGeometry *)g[use[0]];
     free(use);

@@ -2,6 +2,7 @@
 ** Shapes in the plane (see shape2d.h).
 */
 #include "shape2d.h"
+#include "shapes.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -60,17 +61,10 @@ static SceneGeometry *make(Arena *a, const SumiP2dPolys *p, char *err, size_t er
   return g;
 }
 
-/* The empty shape. */
-static SceneGeometry *empty(Arena *a) {
-  SceneGeometry *g = arena_alloc(a, sizeof *g);
-  g->kind = GEOM_MESH;
-  g->face_start = arena_alloc(a, sizeof *g->face_start);
-  return g;
-}
 
 /* Clean polygons (a bridge result, freed here) into a shape. */
 static SceneGeometry *make_owned(Arena *a, SumiP2dPolys *p, char *err, size_t errlen) {
-  SceneGeometry *g = p->ncontours ? make(a, p, err, errlen) : empty(a);
+  SceneGeometry *g = p->ncontours ? make(a, p, err, errlen) : shape_empty(a);
   sumi_p2d_free(p);
   return g;
 }

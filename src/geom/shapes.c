@@ -198,3 +198,10 @@ SceneGeometry *shape_transformed(Arena *a, const SceneGeometry *src, Mat4 m) {
   else if (m.m[0][0] * m.m[1][1] - m.m[0][1] * m.m[1][0] < 0) reverse_contours(g);
   return g;
 }
+
+SceneGeometry *shape_empty(Arena *a) {
+  SceneGeometry *g = arena_alloc(a, sizeof *g);
+  g->kind = GEOM_MESH;
+  g->face_start = arena_alloc(a, sizeof *g->face_start);
+  return g;
+}

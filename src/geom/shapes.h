@@ -39,6 +39,8 @@ SceneGeometry *shape_torus(Arena *a, double R, double r);
 SceneGeometry *shape_cube(Arena *a, Vec3 size, int center);
 /* A square of side size in the xy-plane, centred, facing +z. */
 SceneGeometry *shape_plane(Arena *a, double size);
+/* The empty shape: a mesh of no faces (what a boolean leaves of nothing). */
+SceneGeometry *shape_empty(Arena *a);
 
 /* g moved by m into a copy (patches, vertices, per-corner normals; faces
 ** and patches turned when m mirrors, so they still face outward). A 2D
