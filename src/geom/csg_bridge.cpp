@@ -38,6 +38,38 @@ namespace {
 typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
 typedef K::Point_3 Point;
 typedef CGAL::Surface_mesh<Point> SM;
+
+}  // namespace
+
+// The boxes corefinement finds crossings with (one mesh's faces against
+// the other's edges, CGAL 5.5's intersection_impl.h) are named by their
+// addresses (ID_FROM_BOX_ADDRESS), and box_intersection_d breaks ties
+// between boxes with equal coordinates by name: which of the two boxes'
+// vectors malloc placed lower decided the order crossings were found in,
+// hence the nodes' order and how a face cut along points on a circle was
+// triangulated. Whatever ran before (fontconfig loading a font) moved the
+// heap, so a scene's triangles changed from run to run. This box, for the
+// Surface_mesh halfedges corefinement uses, is named by a counter instead
+// (ID_EXPLICIT): the faces' boxes are made before the edges', so the ties
+// go as when the faces' vector lay lower, in every run.
+namespace CGAL {
+namespace Box_intersection_d {
+template <>
+class Box_with_info_d<double, 3, SM::Halfedge_index, ID_FROM_BOX_ADDRESS> : public Box_d<double, 3, ID_EXPLICIT> {
+  SM::Halfedge_index m_info;
+
+public:
+  typedef Box_d<double, 3, ID_EXPLICIT> Base;
+  typedef double NT;
+  typedef SM::Halfedge_index Info;
+  Box_with_info_d() {}
+  Box_with_info_d(const Bbox_3 &b, Info h) : Base(b), m_info(h) {}
+  Info info() const { return m_info; }
+};
+}  // namespace Box_intersection_d
+}  // namespace CGAL
+
+namespace {
 typedef SM::Face_index Face;
 typedef SM::Property_map<Face, int> SrcMap;
 
