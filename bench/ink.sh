@@ -13,9 +13,10 @@
 # Skipped when assimp-testmodels is not installed. Wall times on a shared
 # machine are noisy: CALLGRIND=1 adds, per scene, one run under callgrind
 # (one thread) and each stage's instructions, the inclusive cost of its
-# function (render_prepare, render_frame: the tile pass, paper_create,
-# ink_diffuse, ink_box_filter_rect, the rest of canvas_paint: quantise and
-# composite, line_render_frame), and the frame's (render_scene).
+# function (render_prepare, render_frame: the tile pass, with canvas_tile:
+# the quantise inside it, paper_create, ink_diffuse, ink_box_filter_rect,
+# the rest of canvas_finish: the composite, line_render_frame), and the
+# frame's (render_scene).
 #
 #   sh bench/ink.sh [path/to/sumi]
 set -e
@@ -80,19 +81,18 @@ for tag in interior painting; do
   echo "ink $tag, instructions (callgrind, one thread):"
   callgrind_annotate --inclusive=yes "$out" 2>/dev/null | python3 -c '
 import re, sys
-want = {"render_prepare": "prepare", "render_frame": "tile pass", "paper_create": "paper",
-        "ink_diffuse": "ink diffuse", "ink_box_filter_rect": "ink box", "canvas_paint": "canvas",
-        "line_render_frame": "lines", "render_scene": "frame"}
+want = {"render_prepare": "prepare", "render_frame": "tile pass", "canvas_tile": "ink quantise",
+        "paper_create": "paper", "ink_diffuse": "ink diffuse", "ink_box_filter_rect": "ink box",
+        "canvas_finish": "canvas", "line_render_frame": "lines", "render_scene": "frame"}
 got = {}
 for line in sys.stdin:
     m = re.match(r"\s*([\d,]+)\s+\([^)]*\)\s+(\S+):(\S+)", line)
     if not m: continue
     fn = m.group(3).split("'"'"'")[0]
     if fn in want and want[fn] not in got: got[want[fn]] = int(m.group(1).replace(",", ""))
-rest = got.get("canvas", 0) - sum(got.get(k, 0) for k in ("paper", "ink diffuse", "ink box"))
-got["canvas"] = rest
-names = {"canvas": "quantise+composite"}
-for k in ["prepare", "tile pass", "paper", "ink diffuse", "ink box", "canvas", "lines", "frame"]:
+got["canvas"] = got.get("canvas", 0) - sum(got.get(k, 0) for k in ("ink diffuse", "ink box"))
+names = {"canvas": "composite", "ink quantise": "  of it quantise"}
+for k in ["prepare", "tile pass", "ink quantise", "paper", "ink diffuse", "ink box", "canvas", "lines", "frame"]:
     if k in got: print("  %-18s %8.1f M" % (names.get(k, k), got[k] / 1e6))
 '
 done

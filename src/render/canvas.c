@@ -18,6 +18,7 @@
 #include "display.h"
 #include "ink.h"
 #include "paper.h"
+#include "raster.h"
 #include "stats.h"
 
 /* ---- the frame's ink styles ---------------------------------------------------- */
@@ -135,7 +136,8 @@ static void paper_run(InkCanvas *c, int y, int x0, int x1) {
 
 /* Pixels p0..p1-1 of one ink object (style index si), all of triangle
 ** face: their greys quantised. */
-static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g, int obj,
+/* face and bary are the samples of pixel p0 on. */
+static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const float (*bary)[2], int obj,
                     int si, int face, size_t p0, size_t p1) {
   const InkStyle *k = &set->styles[si];
   const RenderObject *o = &f->objects[obj];
@@ -145,7 +147,7 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
     const float l0 = k->levels[0], l1 = k->levels[1], l2 = k->levels[2], water = k->water;
     const float *inks = k->ink;
     for (size_t p = p0; p < p1; p++) {
-      float grey = shade_ink_lerp(v, g->bary[p]);
+      float grey = shade_ink_lerp(v, bary[p - p0]);
       int label = 3 - (!(grey < l0) + !(grey < l1) + !(grey < l2));   /* ink_label's */
       c->level[p] = (uint8_t)label;
       c->style[p] = (uint16_t)si;
@@ -155,7 +157,7 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
     return;
   }
   for (size_t p = p0; p < p1; p++) {
-    float grey = plain ? shade_ink_lerp(v, g->bary[p]) : shade_ink_grey(f, o, face, g->bary[p]);
+    float grey = plain ? shade_ink_lerp(v, bary[p - p0]) : shade_ink_grey(f, o, face, bary[p - p0]);
     int label = ink_label(k, grey);
     c->level[p] = (uint8_t)label;
     c->style[p] = (uint16_t)si;
@@ -164,29 +166,34 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
   }
 }
 
-/* One sample a pixel: the sample is the pixel. Every pixel is written
-** once: a run of background as bare paper, of one triangle of an ink
-** object from its greys, and a pixel of another object off the canvas. */
-static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
+/* One sample a pixel: the sample is the pixel. Every pixel of rt's
+** rectangle is written once: a run of background as bare paper, of one
+** triangle of an ink object from its greys, and a pixel of another object
+** off the canvas. */
+static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const RastTarget *rt,
                          InkArea *a) {
-  for (int y = 0; y < c->height; y++) {
-    const int32_t *obj = g->object + (size_t)y * g->width, *face = g->face + (size_t)y * g->width;
-    size_t row = (size_t)y * c->width;
+  int x0 = rt->x0 - f->win.x0, n = rt->x1 - rt->x0;   /* the canvas's columns */
+  for (int sy = rt->y0; sy < rt->y1; sy++) {
+    int y = sy - f->win.y0;
+    size_t i = (size_t)(sy - rt->oy) * rt->stride + (size_t)(rt->x0 - rt->ox);
+    const int32_t *obj = rt->object + i, *face = rt->face + i;
+    const float(*bary)[2] = (const float(*)[2])rt->bary + i;
+    size_t row = (size_t)y * c->width + x0;
     int first = -1, last = -1;   /* the row's ink pixels */
-    for (int x = 0, e; x < c->width; x = e) {
+    for (int x = 0, e; x < n; x = e) {
       e = x + 1;
       if (obj[x] < 0) {   /* a run of background: bare paper */
-        while (e + 4 <= c->width && (obj[e] & obj[e + 1] & obj[e + 2] & obj[e + 3]) < 0) e += 4;   /* all four < 0 */
-        while (e < c->width && obj[e] < 0) e++;
-        paper_run(c, y, x, e);
+        while (e + 4 <= n && (obj[e] & obj[e + 1] & obj[e + 2] & obj[e + 3]) < 0) e += 4;   /* all four < 0 */
+        while (e < n && obj[e] < 0) e++;
+        paper_run(c, y, x0 + x, x0 + e);
         continue;
       }
       int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
       if (si < 0) { put_off(c, row + x, a); continue; }
-      while (e < c->width && obj[e] == obj[x] && face[e] == face[x]) e++;
-      ink_run(c, set, f, g, obj[x], si, face[x], row + x, row + e);
-      if (first < 0) first = x;
-      last = e - 1;
+      while (e < n && obj[e] == obj[x] && face[e] == face[x]) e++;
+      ink_run(c, set, f, bary + x, obj[x], si, face[x], row + x, row + e);
+      if (first < 0) first = x0 + x;
+      last = x0 + e - 1;
     }
     if (first < 0) continue;
     if (first < a->x0) a->x0 = first;
@@ -199,20 +206,20 @@ static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, 
 /* N x N samples a pixel: ink when ink objects show at least as many
 ** samples as other objects and as the background, its grey the mean of
 ** theirs; off the canvas when other objects show more than the
-** background; else bare paper. */
-static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g, int x,
+** background; else bare paper. (x, y) is a canvas pixel of rt's. */
+static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, const RastTarget *rt, int x,
                         int y, InkArea *a) {
   int N = f->samples, n_ink = 0, n_other = 0, n_bare = 0, si = -1;
   float grey = 0;
   for (int sy = 0; sy < N; sy++)
     for (int sx = 0; sx < N; sx++) {
-      size_t i = (size_t)(y * N + sy) * g->width + (size_t)(x * N + sx);
-      int obj = g->object[i];
+      size_t i = (size_t)((y + f->win.y0) * N + sy - rt->oy) * rt->stride + (size_t)((x + f->win.x0) * N + sx - rt->ox);
+      int obj = rt->object[i];
       if (obj < 0) { n_bare++; continue; }
       int s = obj < f->nobjects ? set->of_object[obj] : -1;
       if (s < 0) { n_other++; continue; }
       n_ink++;
-      grey += shade_ink_grey(f, &f->objects[obj], g->face[i], g->bary[i]);
+      grey += shade_ink_grey(f, &f->objects[obj], rt->face[i], rt->bary[i]);
       if (si < 0) si = s;
     }
   size_t p = (size_t)y * c->width + x;
@@ -222,6 +229,15 @@ static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, c
     return;
   }
   put_ink(c, set, p, si, grey / (float)n_ink, a, x, y);
+}
+
+/* The ink of the pixels of rt's rectangle of samples (whole pixels) into
+** c; their ink's box and whether some are off the canvas into a. */
+static void ink_rect(InkCanvas *c, const InkSet *set, const RenderFrame *f, const RastTarget *rt, InkArea *a) {
+  int N = f->samples;
+  if (N == 1) { ink_pixels_1(c, set, f, rt, a); return; }
+  for (int y = rt->y0 / N - f->win.y0; y < rt->y1 / N - f->win.y0; y++)
+    for (int x = rt->x0 / N - f->win.x0; x < rt->x1 / N - f->win.x0; x++) ink_pixel_n(c, set, f, rt, x, y, a);
 }
 
 /* Does any ink style run the stage st? */
@@ -499,19 +515,11 @@ static void grow_area(InkArea *a, int m, int w, int h) {
   a->y1 = a->y1 + m < h ? a->y1 + m : h;
 }
 
-/* The ink of the frame on c, through every stage its styles ask for. */
-static void paint_ink(InkCanvas *c, const InkSet *set, const RenderFrame *f, const GBuffer *g,
-                      InkArea *a, InkColour *col) {
-  double t0 = stats_now();
-  a->x0 = c->width; a->y0 = c->height; a->x1 = a->y1 = 0;
-  a->any_off = 0;
-  if (f->samples == 1) ink_pixels_1(c, set, f, g, a);
-  else
-    for (int y = 0; y < c->height; y++)
-      for (int x = 0; x < c->width; x++) ink_pixel_n(c, set, f, g, x, y, a);
-  double t1 = stats_now();
-  stats_record("ink quantise", t1 - t0);
+/* The ink of the frame on c (quantised: every pixel written), through
+** the other stages its styles ask for; a is the ink's box. */
+static void paint_ink(InkCanvas *c, const InkSet *set, InkArea *a, InkColour *col) {
   if (a->x0 >= a->x1) return;   /* no ink pixel in view */
+  double t1 = stats_now();
   if (any_stage(set, INK_STAGE_DIFFUSED)) {
     InkDiffuseStats ds;
     ink_diffuse(c, -1, &ds);
@@ -528,48 +536,127 @@ static void paint_ink(InkCanvas *c, const InkSet *set, const RenderFrame *f, con
   }
 }
 
-int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img, int out8) {
-  double t0 = stats_now();
+/* A frame's canvas between canvas_begin and canvas_finish. */
+struct Canvas {
+  const Scene *s;
+  const RenderFrame *f;
   Paper pp;
+  InkSet set;
+  InkCanvas c;                 /* with set.n > 0 */
+  InkArea *areas;              /* per screen tile of the window: what canvas_tile found */
+  double *quantise_s;          /* per screen tile: the time it took */
+  int tx0, ty0, tiles_x;       /* the window's first screen tile, its tiles a row */
+  RenderTileSink sink;
+};
+
+int canvas_begin(const Scene *s, const RenderFrame *f, Canvas **out) {
+  double t0 = stats_now();
+  Canvas *cv = xcalloc(1, sizeof *cv);
   char err[1400];
   const SceneSheet *sh = &s->output.sheet;
   int backdrop = !sh->texture && (s->output.nstops >= 2 || s->output.backdrop);   /* a sheet wins */
-  if (backdrop ? !paper_backdrop(&s->output, f->width, f->height, &pp, err, sizeof err)
-               : !paper_create(sh, s->output.background, &pp, err, sizeof err)) {
+  if (backdrop ? !paper_backdrop(&s->output, f->width, f->height, &cv->pp, err, sizeof err)
+               : !paper_create(sh, s->output.background, &cv->pp, err, sizeof err)) {
     diag_error(backdrop ? s->output.background_loc : sh->loc, "%s", err);
+    free(cv);
+    *out = NULL;
     return 0;
   }
   stats_record("paper", stats_now() - t0);
-  InkSet set;
-  ink_set(f, &set);
-  InkCanvas c;
-  InkArea area = {0, 0, 0, 0, 0};
-  InkColour col = {{NULL, NULL, NULL}};
-  Paint pt = {&pp, NULL, &area, &col, {0, 0, 0}, *img, canvas_reads_layer(s, f), {NULL, NULL, NULL},
-              f->win.x0, f->win.y0};
-  if (set.n > 0) {
-    memcpy(pt.ink_color, set.styles[0].color, sizeof pt.ink_color);
-    ink_canvas_alloc(&c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, set.styles, set.n);   /* the build
-                                                                  writes every pixel of the window */
-    c.ox = f->win.x0;
-    c.oy = f->win.y0;
-    c.absorb = pp.absorb;
-    c.absorb_w = pp.width;
-    c.absorb_h = pp.height;
-    c.seed = (uint32_t)sh->seed;
-    paint_ink(&c, &set, f, g, &area, &col);
-    pt.c = &c;
-    if (out8 && set.uniform) mix_tables(&pt, pt.ink_color);
+  cv->s = s;
+  cv->f = f;
+  ink_set(f, &cv->set);
+  if (cv->set.n > 0) {
+    InkCanvas *c = &cv->c;
+    ink_canvas_alloc(c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, cv->set.styles, cv->set.n);   /* the
+                                                                  tiles write every pixel of the window */
+    c->ox = f->win.x0;
+    c->oy = f->win.y0;
+    c->absorb = cv->pp.absorb;
+    c->absorb_w = cv->pp.width;
+    c->absorb_h = cv->pp.height;
+    c->seed = (uint32_t)sh->seed;
   }
-  if (!(out8 && pp.alpha >= 1) || pt.read_layer) paper_fill_linear(&pp);   /* composite_pixel reads them */
+  cv->tx0 = f->win.x0 / RENDER_TILE;
+  cv->ty0 = f->win.y0 / RENDER_TILE;
+  cv->tiles_x = (f->win.x1 + RENDER_TILE - 1) / RENDER_TILE - cv->tx0;
+  int ntiles = cv->tiles_x * ((f->win.y1 + RENDER_TILE - 1) / RENDER_TILE - cv->ty0);
+  cv->areas = xmalloc((size_t)ntiles * sizeof *cv->areas + 1);
+  cv->quantise_s = xcalloc((size_t)ntiles + 1, sizeof *cv->quantise_s);
+  for (int i = 0; i < ntiles; i++) cv->areas[i] = (InkArea){cv->c.width, cv->c.height, 0, 0, 0};
+  *out = cv;
+  return 1;
+}
+
+/* A tile of the pass: its pixels' ink. */
+static void canvas_tile(void *ctx, const RastTarget *rt) {
+  Canvas *cv = ctx;
+  double t0 = stats_now();
+  int px = rt->x0 / cv->f->samples, py = rt->y0 / cv->f->samples;
+  int slot = (py / RENDER_TILE - cv->ty0) * cv->tiles_x + (px / RENDER_TILE - cv->tx0);
+  ink_rect(&cv->c, &cv->set, cv->f, rt, &cv->areas[slot]);
+  cv->quantise_s[slot] += stats_now() - t0;
+}
+
+const RenderTileSink *canvas_sink(Canvas *cv) {
+  if (cv->set.n == 0) return NULL;   /* no ink: the paper reads no samples */
+  cv->sink.ctx = cv;
+  cv->sink.tile = canvas_tile;
+  return &cv->sink;
+}
+
+int canvas_finish(Canvas *cv, Image **img, int out8) {
+  const RenderFrame *f = cv->f;
+  int ntiles = cv->tiles_x * ((f->win.y1 + RENDER_TILE - 1) / RENDER_TILE - cv->ty0);
+  InkArea area = {cv->c.width, cv->c.height, 0, 0, 0};
+  double quantise = 0;
+  for (int i = 0; i < ntiles; i++) {   /* the tiles' boxes, in one */
+    const InkArea *t = &cv->areas[i];
+    quantise += cv->quantise_s[i];
+    area.any_off |= t->any_off;
+    if (t->x0 >= t->x1) continue;
+    area.x0 = t->x0 < area.x0 ? t->x0 : area.x0;
+    area.y0 = t->y0 < area.y0 ? t->y0 : area.y0;
+    area.x1 = t->x1 > area.x1 ? t->x1 : area.x1;
+    area.y1 = t->y1 > area.y1 ? t->y1 : area.y1;
+  }
+  const InkSet *set = &cv->set;
+  InkColour col = {{NULL, NULL, NULL}};
+  Paint pt = {&cv->pp, NULL, &area, &col, {0, 0, 0}, *img, canvas_reads_layer(cv->s, f), {NULL, NULL, NULL},
+              f->win.x0, f->win.y0};
+  if (set->n > 0) {
+    stats_record_cpu("ink quantise", quantise);   /* in the tile pass, on its workers */
+    memcpy(pt.ink_color, set->styles[0].color, sizeof pt.ink_color);
+    paint_ink(&cv->c, set, &area, &col);
+    pt.c = &cv->c;
+    if (out8 && set->uniform) mix_tables(&pt, pt.ink_color);
+  }
+  if (!(out8 && cv->pp.alpha >= 1) || pt.read_layer) paper_fill_linear(&cv->pp);   /* composite_pixel reads them */
   double t1 = stats_now();
   Image *out = composite(&pt, out8);
   stats_record("canvas", stats_now() - t1);
   image_destroy(*img);
   *img = out;
   for (int ch = 0; ch < 3; ch++) free(col.k[ch]), free(pt.mix[ch]);
-  if (pt.c) ink_canvas_free(&c);
-  ink_set_free(&set);
-  paper_free(&pp);
+  if (set->n > 0) ink_canvas_free(&cv->c);
+  ink_set_free(&cv->set);
+  paper_free(&cv->pp);
+  free(cv->areas);
+  free(cv->quantise_s);
+  free(cv);
   return 1;
+}
+
+int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img, int out8) {
+  Canvas *cv;
+  if (!canvas_begin(s, f, &cv)) return 0;
+  if (cv->set.n > 0) {   /* the whole window as one tile */
+    int N = f->samples;
+    RastTarget rt = {f->win.x0 * N, f->win.y0 * N, f->win.x1 * N, f->win.y1 * N, f->win.x0 * N, f->win.y0 * N,
+                     g->width, g->depth, g->object, g->face, g->bary, NULL};
+    double t0 = stats_now();
+    ink_rect(&cv->c, &cv->set, f, &rt, &cv->areas[0]);
+    cv->quantise_s[0] = stats_now() - t0;
+  }
+  return canvas_finish(cv, img, out8);
 }

@@ -3,7 +3,7 @@
 ** tile pass (and the origami sheets), before the lines.
 **
 **   paper     the sheet, or the flat background (paper.h)
-**   ink       the pixels of shade ink objects (from the G-buffer, each
+**   ink       the pixels of shade ink objects (from the tile pass's samples, each
 **             pixel's samples): quantised Gouraud ink (shade_ink.c), then
 **             the diffusion and the box filter over the whole frame
 **             (ink_diffuse.c), each style up to its `stage`
@@ -42,5 +42,17 @@ int canvas_reads_layer(const Scene *s, const RenderFrame *f);
 ** 8-bit codes when out8 and opaque, else float). Returns 1, or 0 after a diagnostic (a sheet image
 ** that cannot be read); *img is kept then. */
 int canvas_paint(const Scene *s, const RenderFrame *f, const GBuffer *g, Image **img, int out8);
+
+/* The same with no G-buffer kept: canvas_begin makes the frame's paper
+** (returning 0 after a diagnostic, as canvas_paint) and the ink canvas;
+** the tile pass hands each tile's samples to canvas_sink's (NULL: the
+** frame has no ink, no samples are needed), whose ink goes onto the canvas
+** as they come (the ink quantise stage, on the pass's workers); then
+** canvas_finish paints *img as canvas_paint does and frees the canvas.
+** The same bytes as canvas_paint. */
+typedef struct Canvas Canvas;
+int canvas_begin(const Scene *s, const RenderFrame *f, Canvas **cv);
+const RenderTileSink *canvas_sink(Canvas *cv);
+int canvas_finish(Canvas *cv, Image **img, int out8);
 
 #endif

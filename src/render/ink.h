@@ -11,7 +11,7 @@
 **   canvas.c       runs them over the whole frame after the tile pass and
 **                  lays the ink on the paper (paper.h)
 ** Ink objects draw nothing in the tile pass (their samples are left
-** transparent); the canvas paints them from the G-buffer, so the diffusion
+** transparent); the canvas paints them from their samples, so the diffusion
 ** sees the whole frame at once, whatever the tiles and threads.
 */
 #ifndef render_ink_h

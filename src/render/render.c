@@ -781,6 +781,7 @@ typedef struct TileJob {
   pthread_mutex_t band_lock;   /* held by the worker handing bands over */
   int next_band;               /* under band_lock: the first band not handed over */
   double write_s;              /* summed time of the rows calls */
+  const RenderTileSink *sink;  /* each tile's samples go here too, or NULL */
   AaFrame aa;                  /* antialiased: the edge walks' meshes (antialias.h) */
 } TileJob;
 
@@ -1183,13 +1184,18 @@ static void *tile_worker(void *arg) {
     int band = k / ncols, tx = b->tx0 + k % ncols, ty = job->ty0 + band, bin = ty * b->tiles_x + tx;
     /* a tile no triangle touches, one sample a pixel, no G-buffer kept:
     ** the background, without clearing planes to read them back */
-    int empty = b->start[bin] == b->start[bin + 1] && job->f->samples == 1 && !job->full;
+    int empty = b->start[bin] == b->start[bin + 1] && job->f->samples == 1 && !job->full && !job->sink;
     Tile tl = tile_target(w, tx, ty, !empty);
     RastTarget *rt = &tl.rt;
     int first_back = b->start[bin] + b->nfront[bin];
     raster_items(b, b->start[bin], first_back, INFINITY, 0, rt);
     if (first_back < b->start[bin + 1])   /* behind all the front faces drawn: skipped */
       raster_items(b, first_back, b->start[bin + 1], tile_far(rt), 1, rt);
+    if (job->sink) {   /* the tile's own samples, not its apron */
+      RastTarget own = *rt;
+      own.x0 = tl.x0, own.y0 = tl.y0, own.x1 = tl.x1, own.y1 = tl.y1;
+      job->sink->tile(job->sink->ctx, &own);
+    }
     double t1 = stats_now();
     if (!job->out) {   /* the G-buffer alone: nothing to shade */
       w->raster_s += t1 - t0;
@@ -1286,6 +1292,7 @@ struct RenderPass {
   Bins bins;
   int nthreads;
   const RenderProgress *progress;
+  const RenderTileSink *sink;
   int done, total;             /* with progress: tiles shaded by earlier runs; all of them */
 };
 
@@ -1299,6 +1306,7 @@ static RenderPass *pass_begin(const RenderFrame *f, const RenderOptions *o, int 
   p->f = f;
   p->nthreads = render_thread_count(o);
   p->progress = o->progress;
+  p->sink = o->tiles;
   Bins *b = &p->bins;
   b->side = RENDER_TILE * N;
   b->apron = antialias;
@@ -1340,6 +1348,7 @@ void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Imag
   job.ntiles = nbands * ncols;
   job.progress = p->progress;
   job.progress_total = p->total;
+  job.sink = p->sink;
   atomic_init(&job.done, p->done);
   shade_view_init(&job.view, &f->camera, N);
   job.span = xmalloc((size_t)f->nstyles * sizeof *job.span);
@@ -1463,17 +1472,23 @@ int render_stages(const Scene *s, const RenderOptions *o, RenderFrame *f, int ca
   /* origami composes with meshes through the sample depths, and the canvas
   ** reads the ink objects' samples: both need the G-buffer */
   GBuffer *gbuf = NULL;
-  /* a canvas over ink alone reads the pass's G-buffer, never its image */
+  /* a canvas over ink alone reads the pass's G-buffer, never its image;
+  ** without origami (which writes into the G-buffer) it takes the ink's
+  ** samples tile by tile as they are drawn, and no G-buffer is kept */
   Image *shaded = canvas && !canvas_reads_layer(s, f) ? NULL : *out;
-  render_frame(f, o, rows, shaded, gbuf_out || s->norigami > 0 || canvas ? &gbuf : NULL);
+  Canvas *cv = NULL;
+  int ok = !(canvas && s->norigami == 0 && !gbuf_out) || canvas_begin(s, f, &cv);
+  RenderOptions ro = *o;
+  ro.tiles = cv ? canvas_sink(cv) : NULL;
+  if (ok) render_frame(f, &ro, rows, shaded, gbuf_out || s->norigami > 0 || (canvas && !cv) ? &gbuf : NULL);
   if (gbuf_out) *gbuf_out = gbuf;
-  int ok = 1;
-  if (s->norigami > 0) {
+  if (ok && s->norigami > 0) {
     double t1 = stats_now();
     ok = composite_origami(s, f, *out, gbuf);
     stats_record("origami", stats_now() - t1);
   }
-  if (ok && canvas) ok = canvas_paint(s, f, gbuf, out, o->out8);
+  if (ok && cv) ok = canvas_finish(cv, out, o->out8);
+  else if (ok && canvas) ok = canvas_paint(s, f, gbuf, out, o->out8);
   if (!gbuf_out) gbuf_destroy(gbuf);
   /* lines (src/render/lines.h): strokes composited over the shaded image */
   if (!ok || !line_render_frame(f, render_thread_count(o), o->strokes ? NULL : *out, o->strokes, NULL)) {

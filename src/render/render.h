@@ -84,6 +84,18 @@ typedef struct RenderProgress {
   void (*tiles)(void *ctx, int done, int total);
 } RenderProgress;
 
+/* Each tile's samples as the tile pass draws them, for a stage that reads
+** them tile by tile instead of from a whole G-buffer kept (the canvas's
+** ink). tile is called once per tile of the window, from the worker that
+** drew it (several at once, for different tiles), with rt's rectangle the
+** tile's own samples (frame sample coordinates; plane index (y - oy) *
+** stride + (x - ox)); face and bary are set only where object >= 0. */
+struct RastTarget;
+typedef struct RenderTileSink {
+  void *ctx;
+  void (*tile)(void *ctx, const struct RastTarget *rt);
+} RenderTileSink;
+
 typedef struct RenderOptions {
   int width, height;   /* after -W/-H (render_resolve_size); 0: the scene's, or 640 x 480 */
   int threads;         /* workers, >= 1; 0 = one per online CPU */
@@ -98,6 +110,7 @@ typedef struct RenderOptions {
                                     back here (stroke_list_free) instead of drawing them */
   RenderWindow window; /* render only this part of the frame (tile.h); empty: all of it */
   const RenderProgress *progress;   /* or NULL */
+  const RenderTileSink *tiles;      /* the tile pass hands its tiles here too, or NULL */
 } RenderOptions;
 
 /* A light resolved for shading: floats, world space. A spot is a point
