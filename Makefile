@@ -203,8 +203,11 @@ bench-tiles: deps all
 
 # Large real meshes (issue 24): Wuson and the duck subdivided to level 4,
 # the engine as it is, the bench torus; per-stage times, memory, 2 threads;
-# CALLGRIND=1 adds each stage's instruction count.
-bench-bigmesh: PEER_PACKAGES := time python3 assimp-testmodels valgrind
+# CALLGRIND=1 adds each stage's instruction count. The same scenes in
+# POV-Ray (a mesh2) and, where blender is installed, Blender with Freestyle
+# (not installed here: 300 MB); PEERS=0 leaves them out, PEERS=only runs
+# them without sumi's 2-thread and callgrind runs.
+bench-bigmesh: PEER_PACKAGES := time python3 assimp-testmodels valgrind povray python3-numpy python3-pil
 bench-bigmesh: deps all
 	sh bench/bigmesh.sh $(BUILD)/sumi
 
@@ -261,7 +264,7 @@ help:
 	@echo "make bench-solve the layer solver against Flat-Folder (node)"
 	@echo "make bench-csg   difference of two 100k-triangle meshes against OpenSCAD (CPU)"
 	@echo "make bench-tiles a 7680x4320 frame whole and as 8 tile jobs (CPU, memory)"
-	@echo "make bench-bigmesh  level-4 Wuson, duck, engine, torus: per-stage times, memory"
+	@echo "make bench-bigmesh  level-4 Wuson, duck, engine, torus: per-stage times, memory; POV-Ray, Blender"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/ and write its index.html"
