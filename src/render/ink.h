@@ -126,6 +126,8 @@ typedef struct InkCanvas {
   uint8_t *noise;           /* the resistance noise where computed, 1..255 (0: not yet); ink_diffuse's */
   const struct NoiseFbm *fbm;   /* during ink_diffuse: that noise's lattice */
   uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
+  size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
+  int *absorb_col;          /* and per column its texel column (no divisions per lookup) */
 } InkCanvas;
 
 /* A pixel that takes ink can pass it on INK_DELAY x its resistance passes

@@ -82,8 +82,33 @@ static float resist_noise(const InkCanvas *c, int x, int y) {
 ** a hop's loss and water cost. */
 /* The paper's absorbency under canvas pixel (x, y). */
 static float absorb_at(const InkCanvas *c, int x, int y) {
-  x += c->ox, y += c->oy;
-  return c->absorb[(size_t)(y % c->absorb_h) * c->absorb_w + (size_t)(x % c->absorb_w)];
+  return c->absorb[c->absorb_row[y] + (size_t)c->absorb_col[x]];
+}
+
+/* The tables absorb_at reads (ink_diffuse's: freed by absorb_free). */
+static void absorb_tables(InkCanvas *c) {
+  if (!c->absorb) return;
+  c->absorb_row = xmalloc((size_t)c->height * sizeof *c->absorb_row + 1);
+  c->absorb_col = xmalloc((size_t)c->width * sizeof *c->absorb_col + 1);
+  for (int y = 0; y < c->height; y++) c->absorb_row[y] = (size_t)((y + c->oy) % c->absorb_h) * c->absorb_w;
+  for (int x = 0; x < c->width; x++) c->absorb_col[x] = (x + c->ox) % c->absorb_w;
+}
+
+static void absorb_free(InkCanvas *c) {
+  free(c->absorb_row);
+  free(c->absorb_col);
+  c->absorb_row = NULL;
+  c->absorb_col = NULL;
+}
+
+/* Pixel p's column and row, without a division: the quotient by a
+** reciprocal, corrected to the exact one. */
+static inline void pixel_xy(uint32_t p, uint32_t w, double inv_w, int *x, int *y) {
+  uint32_t q = (uint32_t)((double)p * inv_w);
+  if (q * w > p) q--;
+  else if ((q + 1) * w <= p) q++;
+  *x = (int)(p - q * w);
+  *y = (int)q;
 }
 
 static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
@@ -317,9 +342,12 @@ static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, Updates *
 /* The offers of the receivers in u, each from its giver. */
 static void offers_of(const InkCanvas *c, Updates *u) {
   uint32_t w = (uint32_t)c->width;
+  double inv_w = 1.0 / w;
   for (int i = 0; i < u->n; i++) {
     Offer *o = &u->v[i];
-    offer_from(c, o->from, o->pixel, (int)(o->pixel % w), (int)(o->pixel / w), o);
+    int x, y;
+    pixel_xy(o->pixel, w, inv_w, &x, &y);
+    offer_from(c, o->from, o->pixel, x, y, o);
   }
 }
 
@@ -336,17 +364,20 @@ static inline void offer_to(const InkCanvas *c, Receivers *t, size_t q, size_t p
 static void next_pass(const InkCanvas *c, const Updates *last, const Updates *now, Receivers *t, int pass,
                       Updates *u) {
   int w = c->width, h = c->height;
+  double inv_w = 1.0 / w;
   receivers_reset(t, (size_t)last->n + 2 * (size_t)now->n);
   for (int i = 0; i < last->n; i++) {
     uint32_t p = last->v[i].pixel;
-    int x = (int)(p % (uint32_t)w), y = (int)(p / (uint32_t)w);
+    int x, y;
+    pixel_xy(p, (uint32_t)w, inv_w, &x, &y);
     size_t q;
     if (t->key[receivers_slot(t, p)] != p && best_giver(c, x, y, pass, &q)) take(c, t, q, p, u);
   }
   for (int i = 0; i < now->n; i++) {
     uint32_t q = now->v[i].pixel;
     if (c->ready[q] != pass - 1) continue;   /* it took a darker offer since: listed again */
-    int x0 = (int)(q % (uint32_t)w), y0 = (int)(q / (uint32_t)w);
+    int x0, y0;
+    pixel_xy(q, (uint32_t)w, inv_w, &x0, &y0);
     if (x0 > 0) offer_to(c, t, q, q - 1, pass, u);   /* left, right, up, down */
     if (x0 + 1 < w) offer_to(c, t, q, q + 1, pass, u);
     if (y0 > 0) offer_to(c, t, q, q - (size_t)w, pass, u);
@@ -382,8 +413,9 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   NoiseFbm fbm;
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
-  if (!c->noise) c->noise = xcalloc_huge((n + 1) * sizeof *c->noise);
-  c->ready = xcalloc_huge((n + 1) * sizeof *c->ready);
+  absorb_tables(c);
+  if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
+  c->ready = xcalloc(n + 1, sizeof *c->ready);
   Updates u = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -406,6 +438,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   c->ready = NULL;
   noise_fbm_free(&fbm);
   c->fbm = NULL;
+  absorb_free(c);
   if (st) *st = s;
 }
 
@@ -417,8 +450,9 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   NoiseFbm fbm;
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
-  if (!c->noise) c->noise = xcalloc_huge((n + 1) * sizeof *c->noise);
-  c->ready = xcalloc_huge((n + 1) * sizeof *c->ready);   /* the first ink can give in pass 1 */
+  absorb_tables(c);
+  if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
+  c->ready = xcalloc(n + 1, sizeof *c->ready);   /* the first ink can give in pass 1 */
   Receivers recv = {NULL, NULL, 0, NULL, 0, 0};
   Updates u = {0}, last = {0};
   Ready rd;
@@ -445,6 +479,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   c->ready = NULL;
   noise_fbm_free(&fbm);
   c->fbm = NULL;
+  absorb_free(c);
   if (st) *st = s;
 }
 

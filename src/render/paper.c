@@ -34,21 +34,31 @@
 /* Coverage planes of the fibres: light and dark ones. */
 typedef struct Fibres { int t; float *light, *dark; } Fibres;
 
+/* v modulo t, in [0, t): a fibre strays less than a tile from it, so a
+** step back or on does, with no division. */
+static inline int wrap(int v, int t) {
+  while (v < 0) v += t;
+  while (v >= t) v -= t;
+  return v;
+}
+
 /* Cover a disc of radius r around (px, py) with strength s, wrapping;
 ** coverage keeps its largest value, so a fibre's own overlapping steps
 ** and crossing fibres do not pile up. */
 static void fibre_dab(Fibres *fb, float *plane, float px, float py, float r, float s) {
   int t = fb->t, x0 = (int)floorf(px - r - 1), x1 = (int)ceilf(px + r + 1);
   int y0 = (int)floorf(py - r - 1), y1 = (int)ceilf(py + r + 1);
-  for (int y = y0; y <= y1; y++)
+  for (int y = y0; y <= y1; y++) {
+    float *row = &plane[(size_t)wrap(y, t) * t];
     for (int x = x0; x <= x1; x++) {
       float dx = (float)x + 0.5f - px, dy = (float)y + 0.5f - py;
       float cover = r + 0.5f - sqrtf(dx * dx + dy * dy);   /* antialiased edge */
       if (cover <= 0) continue;
       cover = (cover < 1 ? cover : 1) * s;
-      float *q = &plane[(size_t)(((y % t) + t) % t) * t + (size_t)(((x % t) + t) % t)];
+      float *q = &row[wrap(x, t)];
       if (cover > *q) *q = cover;
     }
+  }
 }
 
 /* One fibre: a strand that bends a little at each half-pixel step. */
