@@ -128,6 +128,8 @@ typedef struct InkCanvas {
   uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
   size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
   int *absorb_col;          /* and per column its texel column (no divisions per lookup) */
+  const InkStyle *one;      /* during ink_diffuse: the only style, when there is one and it
+                               diffuses (the style plane need not be read); else NULL */
 } InkCanvas;
 
 /* A pixel that takes ink can pass it on INK_DELAY x its resistance passes

@@ -147,13 +147,25 @@ static inline int diffuses(const InkCanvas *c, int s) {
   return s == INK_NO_STYLE || c->styles[s].stage >= INK_STAGE_DIFFUSED;
 }
 
+/* Does pixel p take part: not off the canvas, and its style diffuses?
+** (With one style that does, its style need not be looked up: the
+** planes are big and each one read is a cache miss at a front.) */
+static inline int takes_part(const InkCanvas *c, size_t p) {
+  return c->level[p] != INK_OFF && (c->one || diffuses(c, c->style[p]));
+}
+
+/* The style of ink pixel q. */
+static inline const InkStyle *style_of(const InkCanvas *c, size_t q) {
+  return c->one ? c->one : &c->styles[c->style[q]];
+}
+
 /* May giver q give to receiver p in pass `pass` under the three rules? */
 static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
   int lq = c->level[q], lp = c->level[p];
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
   if (c->ready[q] >= pass) return 0;                         /* its water has not come through yet */
-  const InkStyle *k = &c->styles[c->style[q]];
+  const InkStyle *k = style_of(c, q);
   if (k->stage < INK_STAGE_DIFFUSED) return 0;
   if (!(c->water[q] > k->water_threshold)) return 0;         /* rule 1: enough water */
   return c->ink[q] - c->ink[p] > k->ink_threshold;           /* rule 3: a large enough difference */
@@ -173,7 +185,7 @@ static inline int darker(const InkCanvas *c, size_t a, size_t b) {
 ** water less a step's cost, through the paper's resistance there. */
 static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Offer *o) {
   int lp = c->level[p];
-  const InkStyle *k = &c->styles[c->style[q]];
+  const InkStyle *k = style_of(c, q);
   float r = ink_resistance(c, x, y, k->roughness);
   float cost = r * (lp == 0 ? k->paper_cost : 1);
   float loss = k->ink_loss * cost;
@@ -181,7 +193,7 @@ static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Off
   float water = c->water[q] - cost;
   o->pixel = (uint32_t)p;
   o->from = (uint32_t)q;
-  o->style = c->style[q];
+  o->style = c->one ? 0 : c->style[q];
   o->level = c->level[q];
   o->delay = (uint8_t)ink_delay(c, x, y, k->roughness);
   o->ink = c->ink[p] + (1 - loss) * (c->ink[q] - c->ink[p]);   /* its own plus (1 - loss) of the difference */
@@ -193,7 +205,7 @@ static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Off
 static int best_giver(const InkCanvas *c, int x, int y, int pass, size_t *giver) {
   int w = c->width;
   size_t p = (size_t)y * w + x;
-  if (c->level[p] == INK_OFF || !diffuses(c, c->style[p])) return 0;
+  if (!takes_part(c, p)) return 0;
   size_t nb[4];
   int n = 0, found = 0;
   if (x > 0) nb[n++] = p - 1;
@@ -225,9 +237,26 @@ static inline void updates_add(Updates *u, const Offer *o) {
 typedef struct Ready { Updates at[INK_MAX_DELAY + 1]; } Ready;
 
 /* Apply the pass's offers; each receiver can give from pass + delay on. */
+/* The lists visit pixels scattered along the fronts, over planes far
+** bigger than the caches: a pixel's state is fetched a few list entries
+** ahead (a hint only; it changes nothing). */
+#define INK_AHEAD 8
+
+static inline void fetch_ahead(const InkCanvas *c, const Offer *v, int i, int n) {
+  if (i + INK_AHEAD >= n) return;
+  size_t p = v[i + INK_AHEAD].pixel, w = (size_t)c->width;
+  __builtin_prefetch(&c->level[p]);
+  __builtin_prefetch(&c->ready[p]);
+  __builtin_prefetch(&c->ink[p]);
+  __builtin_prefetch(&c->water[p]);
+  if (p >= w) __builtin_prefetch(&c->level[p - w]);
+  if (p + w < w * (size_t)c->height) __builtin_prefetch(&c->level[p + w]);
+}
+
 static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
   for (int i = 0; i < u->n; i++) {
     const Offer *o = &u->v[i];
+    fetch_ahead(c, u->v, i, u->n);
     c->level[o->pixel] = o->level;
     c->style[o->pixel] = o->style;
     c->ink[o->pixel] = o->ink;
@@ -346,6 +375,8 @@ static void offers_of(const InkCanvas *c, Updates *u) {
   for (int i = 0; i < u->n; i++) {
     Offer *o = &u->v[i];
     int x, y;
+    fetch_ahead(c, u->v, i, u->n);
+    if (i + INK_AHEAD < u->n) __builtin_prefetch(&c->noise[u->v[i + INK_AHEAD].pixel]);
     pixel_xy(o->pixel, w, inv_w, &x, &y);
     offer_from(c, o->from, o->pixel, x, y, o);
   }
@@ -353,7 +384,7 @@ static void offers_of(const InkCanvas *c, Updates *u) {
 
 /* Giver q offers to its neighbour p when the rules let it. */
 static inline void offer_to(const InkCanvas *c, Receivers *t, size_t q, size_t p, int pass, Updates *u) {
-  if (c->level[p] != INK_OFF && diffuses(c, c->style[p]) && may_give(c, q, p, pass)) take(c, t, q, p, u);
+  if (takes_part(c, p) && may_give(c, q, p, pass)) take(c, t, q, p, u);
 }
 
 /* A later pass. A pixel's best offer can change only when it or a
@@ -368,6 +399,7 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
   receivers_reset(t, (size_t)last->n + 2 * (size_t)now->n);
   for (int i = 0; i < last->n; i++) {
     uint32_t p = last->v[i].pixel;
+    fetch_ahead(c, last->v, i, last->n);
     int x, y;
     pixel_xy(p, (uint32_t)w, inv_w, &x, &y);
     size_t q;
@@ -375,6 +407,7 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
   }
   for (int i = 0; i < now->n; i++) {
     uint32_t q = now->v[i].pixel;
+    fetch_ahead(c, now->v, i, now->n);
     if (c->ready[q] != pass - 1) continue;   /* it took a darker offer since: listed again */
     int x0, y0;
     pixel_xy(q, (uint32_t)w, inv_w, &x0, &y0);
@@ -414,6 +447,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
   absorb_tables(c);
+  c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
   if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
   c->ready = xcalloc(n + 1, sizeof *c->ready);
   Updates u = {0};
@@ -438,6 +472,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   c->ready = NULL;
   noise_fbm_free(&fbm);
   c->fbm = NULL;
+  c->one = NULL;
   absorb_free(c);
   if (st) *st = s;
 }
@@ -451,6 +486,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
   absorb_tables(c);
+  c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
   if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
   c->ready = xcalloc(n + 1, sizeof *c->ready);   /* the first ink can give in pass 1 */
   Receivers recv = {NULL, NULL, 0, NULL, 0, 0};
@@ -479,6 +515,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   c->ready = NULL;
   noise_fbm_free(&fbm);
   c->fbm = NULL;
+  c->one = NULL;
   absorb_free(c);
   if (st) *st = s;
 }
