@@ -510,25 +510,45 @@ void render_frame_free(RenderFrame *f) {
 
 /* What binning and the tile pass read of a set-up triangle rather than
 ** the whole RastTri: the tiles it touches, columns tx0..tx1 and rows
-** ty0..ty1 (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits), whether
-** it faces away from the camera, and a depth no sample of it is nearer
-** than. A lazy one (a back face, see emit_chunk) is not set up yet: its
-** RastTri holds only its pixel box, object and face. */
+** ty0..ty1 (RENDER_MAX_SAMPLE_DIM / RENDER_TILE fits in 16 bits), a depth
+** no sample of it is nearer than, whether it faces away from the camera,
+** and where it is: slot in its list's tris, or (a lazy one: a back face,
+** see emit_chunk, not set up yet) in its lazy entries. */
 typedef struct TileBox {
   uint16_t tx0, ty0, tx1, ty1;
   float zmin;
-  uint16_t back, lazy;
+  uint16_t slot;
+  uint8_t back, lazy;
 } TileBox;
+
+/* A lazy entry: the pixel box a setup would give (RastTri's x0..y1, each
+** at most RAST_MAX_DIM) and the face; its object is its list's. Twelve
+** bytes where a RastTri is 128: most of a fine mesh's back faces are
+** hidden and never set up. */
+typedef struct LazyTri {
+  uint16_t x0, y0, x1, y1;
+  int32_t face;
+} LazyTri;
+
+/* One setup chunk's entries in drawing order (boxes[0 .. n)), each a
+** set-up triangle in tris or a lazy one in lazy. */
+typedef struct SetupList {
+  RastTriList tris;
+  LazyTri *lazy;
+  int nlazy, lazy_cap;
+  TileBox *boxes;
+  int n, cap;
+  int object;
+} SetupList;
 
 /* The set-up triangles, in per-chunk lists (see setup_triangles), and the
 ** screen tiles with, for each, references to the triangles touching it in
 ** drawing order (objects in order, triangles in order): bin t holds
 ** items[start[t] .. start[t + 1]), each item chunk << BIN_LOCAL_BITS | the
-** index in that chunk's list. */
+** index of its entry in that chunk's list. */
 typedef struct Bins {
   int nlists;
-  RastTriList *lists;
-  TileBox **boxes;             /* per list, parallel to it */
+  SetupList *lists;
   int tiles_x, tiles_y, side;  /* tile side in samples */
   int tx0, ty0, tx1, ty1;      /* the tiles the frame's window touches, [tx0, tx1) x [ty0, ty1):
                                   only these are binned */
@@ -545,12 +565,8 @@ typedef struct Bins {
 
 #define BIN_LOCAL_BITS 15
 
-static inline const RastTri *bin_tri(const Bins *b, uint32_t item) {
-  return &b->lists[item >> BIN_LOCAL_BITS].tris[item & ((1u << BIN_LOCAL_BITS) - 1)];
-}
-
 static inline const TileBox *bin_box(const Bins *b, uint32_t item) {
-  return &b->boxes[item >> BIN_LOCAL_BITS][item & ((1u << BIN_LOCAL_BITS) - 1)];
+  return &b->lists[item >> BIN_LOCAL_BITS].boxes[item & ((1u << BIN_LOCAL_BITS) - 1)];
 }
 
 /* ---- triangle setup and binning ------------------------------------------- */
@@ -567,13 +583,14 @@ typedef struct SetupChunk { int object, start, end; } SetupChunk;
 typedef struct SetupJob {
   const RenderFrame *f;
   int gw, gh, side;            /* sample grid; tile side in samples */
+  int side_shift;              /* log2 of side, or -1 when it is no power of two */
+  int last_tx, last_ty;        /* the last tile column and row */
   int apron;                   /* samples a tile's bin reaches around it */
   int wx0, wy0, wx1, wy1;      /* the samples of the frame's window: triangles wholly
                                   outside it (and its apron) are not set up */
   RastVert **verts;            /* per object */
   SetupChunk *chunks;
-  RastTriList *lists;          /* per triangle chunk */
-  TileBox **boxes;             /* per triangle chunk, parallel to its list */
+  SetupList *lists;            /* per triangle chunk */
 } SetupJob;
 
 static void project_chunk(void *ctx, int k) {
@@ -602,69 +619,69 @@ static int outside_window(const SetupJob *job, const RastVert *const tv[3]) {
          (y1 >> RAST_SUBPIXEL_BITS) + g < job->wy0 || (y0 >> RAST_SUBPIXEL_BITS) - g >= job->wy1;
 }
 
+/* Tile of sample x: a shift when the tile side is a power of two (it is
+** RENDER_TILE times the samples a side), else a division. */
+static inline int tile_of(const SetupJob *job, int x) {
+  return job->side_shift >= 0 ? x >> job->side_shift : x / job->side;
+}
+
+/* The tiles list entry box touches (pixel box x0..y1 grown by the apron),
+** with depth bound zmin, into a new entry of list. */
+static inline void push_box(const SetupJob *job, SetupList *list, int x0, int y0, int x1, int y1, float zmin,
+                            int slot, int back, int lazy) {
+  int g = job->apron, last_x = job->last_tx, last_y = job->last_ty;
+  int tx1 = tile_of(job, x1 - 1 + g), ty1 = tile_of(job, y1 - 1 + g);
+  if (list->n == list->cap) list->boxes = xgrow(list->boxes, &list->cap, list->n + 1, sizeof *list->boxes);
+  list->boxes[list->n++] = (TileBox){(uint16_t)tile_of(job, x0 - g > 0 ? x0 - g : 0),
+                                     (uint16_t)tile_of(job, y0 - g > 0 ? y0 - g : 0),
+                                     (uint16_t)(tx1 < last_x ? tx1 : last_x),
+                                     (uint16_t)(ty1 < last_y ? ty1 : last_y), zmin, (uint16_t)slot,
+                                     (uint8_t)back, (uint8_t)lazy};
+}
+
 static void emit_chunk(void *ctx, int k) {
   SetupJob *job = ctx;
   const SetupChunk *c = &job->chunks[k];
   const RenderObject *o = &job->f->objects[c->object];
   const Mesh *m = o->mesh;
   const RastVert *rv = job->verts[c->object];
-  RastTriList *list = &job->lists[k];
-  list->cap = c->end - c->start;   /* one each, unless clipping splits some */
-  list->tris = xmalloc((size_t)list->cap * sizeof *list->tris);
-  /* per entry: 1 for a lazy one, whose bound is in zlazy */
-  int side_cap = list->cap;
-  unsigned char *lazy = xmalloc((size_t)side_cap + 1);
-  float *zlazy = xmalloc(((size_t)side_cap + 1) * sizeof *zlazy);
+  SetupList *list = &job->lists[k];
+  RastTriList *tris = &list->tris;
+  list->object = c->object;
+  /* one entry a triangle, unless clipping splits some: pages never
+  ** written are never touched */
+  tris->cap = list->cap = list->lazy_cap = c->end - c->start;
+  tris->tris = xmalloc((size_t)tris->cap * sizeof *tris->tris);
+  list->boxes = xmalloc((size_t)list->cap * sizeof *list->boxes);
+  list->lazy = xmalloc((size_t)list->lazy_cap * sizeof *list->lazy);
   for (int t = c->start; t < c->end; t++) {
     if (o->cull_back && o->backfacing[t]) continue;   /* hidden by the object's front */
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
     if (outside_window(job, tv)) continue;
-    int n0 = list->n;
-    if (o->backfacing[t] && !(tv[0]->outcode | tv[1]->outcode | tv[2]->outcode)) {
+    int back = o->backfacing[t];
+    if (back && !(tv[0]->outcode | tv[1]->outcode | tv[2]->outcode)) {
       /* A back face is drawn after the front ones and mostly hidden by
       ** them (raster_items skips it on its depth bound): work out only its
       ** box and bound now, and set it up when a tile draws it. */
       int bx[4];
       float z;
       if (!rast_bounds(tv, job->gw, job->gh, bx, &z)) continue;
-      if (list->n == list->cap) list->tris = xgrow(list->tris, &list->cap, list->n + 1, sizeof *list->tris);
-      if (side_cap < list->cap) {
-        side_cap = list->cap;
-        lazy = xrealloc(lazy, (size_t)side_cap + 1);
-        zlazy = xrealloc(zlazy, ((size_t)side_cap + 1) * sizeof *zlazy);
-      }
-      RastTri *r = &list->tris[list->n++];
-      r->x0 = bx[0], r->y0 = bx[1], r->x1 = bx[2], r->y1 = bx[3];
-      r->object = c->object, r->face = t;
-      lazy[n0] = 1, zlazy[n0] = z;
+      list->lazy[list->nlazy] = (LazyTri){(uint16_t)bx[0], (uint16_t)bx[1], (uint16_t)bx[2], (uint16_t)bx[3], t};
+      push_box(job, list, bx[0], bx[1], bx[2], bx[3], z, list->nlazy++, 1, 1);
       continue;
     }
-    rast_emit(list, tv, c->object, t, job->gw, job->gh);
-    if (side_cap < list->cap) {   /* clipping split it: the side tables grow too */
-      side_cap = list->cap;
-      lazy = xrealloc(lazy, (size_t)side_cap + 1);
-      zlazy = xrealloc(zlazy, ((size_t)side_cap + 1) * sizeof *zlazy);
+    int n0 = tris->n;
+    rast_emit(tris, tv, c->object, t, job->gw, job->gh);
+    for (int i = n0; i < tris->n; i++) {   /* one, or the pieces clipping made */
+      const RastTri *r = &tris->tris[i];
+      /* depth is affine: its least value over the box of sample centres is
+      ** at a corner; the margin covers the rounding of rast_triangle's sums */
+      float fx0 = (float)r->x0 + 0.5f - r->ox, fx1 = (float)r->x1 - 0.5f - r->ox;
+      float fy0 = (float)r->y0 + 0.5f - r->oy, fy1 = (float)r->y1 - 0.5f - r->oy;
+      float zx = fminf(r->z[1] * fx0, r->z[1] * fx1), zy = fminf(r->z[2] * fy0, r->z[2] * fy1);
+      push_box(job, list, r->x0, r->y0, r->x1, r->y1, r->z[0] + zx + zy - 1e-5f, i, back, 0);
     }
-    memset(lazy + n0, 0, (size_t)(list->n - n0));
   }
-  TileBox *box = job->boxes[k] = xmalloc(((size_t)list->n + 1) * sizeof *box);
-  int side = job->side, g = job->apron;   /* a triangle's box grows by the apron */
-  int last_x = (job->gw - 1) / side, last_y = (job->gh - 1) / side;
-  for (int i = 0; i < list->n; i++) {
-    const RastTri *t = &list->tris[i];
-    /* depth is affine: its least value over the box of sample centres is
-    ** at a corner; the margin covers the rounding of rast_triangle's sums */
-    float fx0 = (float)t->x0 + 0.5f - t->ox, fx1 = (float)t->x1 - 0.5f - t->ox;
-    float fy0 = (float)t->y0 + 0.5f - t->oy, fy1 = (float)t->y1 - 0.5f - t->oy;
-    float zx = fminf(t->z[1] * fx0, t->z[1] * fx1), zy = fminf(t->z[2] * fy0, t->z[2] * fy1);
-    int tx1 = (t->x1 - 1 + g) / side, ty1 = (t->y1 - 1 + g) / side;
-    box[i] = (TileBox){(uint16_t)((t->x0 - g > 0 ? t->x0 - g : 0) / side),
-                       (uint16_t)((t->y0 - g > 0 ? t->y0 - g : 0) / side),
-                       (uint16_t)(tx1 < last_x ? tx1 : last_x), (uint16_t)(ty1 < last_y ? ty1 : last_y),
-                       lazy[i] ? zlazy[i] : t->z[0] + zx + zy - 1e-5f, o->backfacing[t->face], lazy[i]};
-  }
-  free(lazy);
-  free(zlazy);
 }
 
 /* Chunks covering count(object) items of every object; returns how many. */
@@ -686,8 +703,11 @@ static int make_chunks(const RenderFrame *f, int tris, SetupChunk **out) {
 ** gw x gh sample grid, on nthreads threads, into b's lists. */
 static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, Bins *b) {
   int N = f->samples;
-  SetupJob job = {f, gw, gh, b->side, b->apron, f->win.x0 * N, f->win.y0 * N, f->win.x1 * N, f->win.y1 * N,
-                  NULL, NULL, NULL, NULL};
+  int shift = -1;
+  for (int k = 0; k < 30; k++)
+    if (b->side == 1 << k) shift = k;
+  SetupJob job = {f, gw, gh, b->side, shift, (gw - 1) / b->side, (gh - 1) / b->side, b->apron,
+                  f->win.x0 * N, f->win.y0 * N, f->win.x1 * N, f->win.y1 * N, NULL, NULL, NULL};
   job.verts = xcalloc((size_t)f->nobjects + 1, sizeof *job.verts);
   for (int i = 0; i < f->nobjects; i++)
     job.verts[i] = xmalloc((size_t)f->objects[i].mesh->nverts * sizeof **job.verts + 1);
@@ -696,13 +716,11 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
   free(job.chunks);
   n = make_chunks(f, 1, &job.chunks);
   job.lists = xcalloc((size_t)n + 1, sizeof *job.lists);
-  job.boxes = xcalloc((size_t)n + 1, sizeof *job.boxes);
   tasks_run(n, nthreads, emit_chunk, &job);
   b->verts = job.verts;   /* the lazy setups and the edge walks read them */
   b->f = f, b->gw = gw, b->gh = gh;
   free(job.chunks);
   b->lists = job.lists;
-  b->boxes = job.boxes;
   b->nlists = n;
 }
 
@@ -720,7 +738,7 @@ static void bin_triangles(Bins *b) {
     int *back = pass ? xcalloc((size_t)ntiles, sizeof *back) : NULL;
     for (int l = 0; l < b->nlists; l++)
       for (int i = 0; i < b->lists[l].n; i++) {
-        TileBox t = b->boxes[l][i];
+        TileBox t = b->lists[l].boxes[i];
         uint32_t item = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
         int ty0 = t.ty0 > b->ty0 ? t.ty0 : b->ty0, ty1 = t.ty1 < b->ty1 - 1 ? t.ty1 : b->ty1 - 1;
         int tx0 = t.tx0 > b->tx0 ? t.tx0 : b->tx0, tx1 = t.tx1 < b->tx1 - 1 ? t.tx1 : b->tx1 - 1;
@@ -750,11 +768,11 @@ static void bins_free(Bins *b, int nobjects) {
   for (int i = 0; b->verts && i < nobjects; i++) free(b->verts[i]);
   free(b->verts);
   for (int l = 0; l < b->nlists; l++) {
-    rast_list_free(&b->lists[l]);
-    free(b->boxes[l]);
+    rast_list_free(&b->lists[l].tris);
+    free(b->lists[l].lazy);
+    free(b->lists[l].boxes);
   }
   free(b->lists);
-  free(b->boxes);
   free(b->start);
   free(b->nfront);
   free(b->items);
@@ -1106,27 +1124,32 @@ static float tile_far(const RastTarget *rt) { return rect_far(rt, rt->x0, rt->y0
 static void raster_items(const Bins *b, int i0, int i1, float far, int boxes, RastTarget *rt) {
   for (int i = i0; i < i1; i++) {
     if (i + 2 < i1) {   /* the bin jumps around the lists: fetch ahead */
-      const char *ahead = (const char *)bin_tri(b, b->items[i + 2]);
-      __builtin_prefetch(ahead);
-      __builtin_prefetch(ahead + sizeof(RastTri) - 1);
+      uint32_t ahead = b->items[i + 2];
+      __builtin_prefetch(&b->lists[ahead >> BIN_LOCAL_BITS].boxes[ahead & ((1u << BIN_LOCAL_BITS) - 1)]);
     }
-    const TileBox *box = bin_box(b, b->items[i]);
+    uint32_t item = b->items[i];
+    const SetupList *list = &b->lists[item >> BIN_LOCAL_BITS];
+    const TileBox *box = &list->boxes[item & ((1u << BIN_LOCAL_BITS) - 1)];
     float zmin = box->zmin;
     if (zmin >= far) continue;
-    const RastTri *t = bin_tri(b, b->items[i]);
+    if (box->lazy) {   /* set up here, the same triangle emit_chunk would have made */
+      const LazyTri *lz = &list->lazy[box->slot];
+      int x0 = lz->x0 > rt->x0 ? lz->x0 : rt->x0, x1 = lz->x1 < rt->x1 ? lz->x1 : rt->x1;
+      int y0 = lz->y0 > rt->y0 ? lz->y0 : rt->y0, y1 = lz->y1 < rt->y1 ? lz->y1 : rt->y1;
+      if (x0 >= x1 || y0 >= y1 || zmin >= rect_far(rt, x0, y0, x1, y1)) continue;
+      RastTri own;
+      const int *v = b->f->objects[list->object].mesh->tri[lz->face];
+      const RastVert *rv = b->verts[list->object];
+      const RastVert *tv[3] = {&rv[v[0]], &rv[v[1]], &rv[v[2]]};
+      rast_setup(&own, tv, list->object, lz->face, b->gw, b->gh);
+      rast_triangle(&own, rt);
+      continue;
+    }
+    const RastTri *t = &list->tris.tris[box->slot];
     if (boxes) {
       int x0 = t->x0 > rt->x0 ? t->x0 : rt->x0, x1 = t->x1 < rt->x1 ? t->x1 : rt->x1;
       int y0 = t->y0 > rt->y0 ? t->y0 : rt->y0, y1 = t->y1 < rt->y1 ? t->y1 : rt->y1;
       if (x0 >= x1 || y0 >= y1 || zmin >= rect_far(rt, x0, y0, x1, y1)) continue;
-    }
-    if (box->lazy) {   /* set up here, the same triangle emit_chunk would have made */
-      RastTri own;
-      const int *v = b->f->objects[t->object].mesh->tri[t->face];
-      const RastVert *rv = b->verts[t->object];
-      const RastVert *tv[3] = {&rv[v[0]], &rv[v[1]], &rv[v[2]]};
-      rast_setup(&own, tv, t->object, t->face, b->gw, b->gh);
-      rast_triangle(&own, rt);
-      continue;
     }
     rast_triangle(t, rt);
   }
