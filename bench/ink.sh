@@ -9,7 +9,10 @@
 # Each runs RUNS times (default 7); for every --stats stage the median is
 # printed, then the frame (prepare through the last stage drawn: no
 # parsing, no PNG encoding) and the ink stages alone (quantise, diffuse,
-# box, canvas). Aims: the interior under 15 ms, the painting under 40 ms.
+# box, canvas). Ink quantise runs inside raster+shade (the canvas takes
+# each tile's samples as the tile pass draws them): its time is the
+# workers' CPU time, not added to the frame again. Aims: the interior
+# under 15 ms, the painting under 40 ms.
 # Skipped when assimp-testmodels is not installed. Wall times on a shared
 # machine are noisy: CALLGRIND=1 adds, per scene, one run under callgrind
 # (one thread) and each stage's instructions, the inclusive cost of its

@@ -1,8 +1,10 @@
 /*
 ** The canvas (canvas.h): paper, ink, and the tile pass's image over them.
 **
-** Bottom-up: the frame's ink styles, the ink of each pixel from the
-** G-buffer, the stages (diffusion, box filter), and the composite. The
+** Bottom-up: the frame's ink styles, the ink of each pixel from the tile
+** pass's samples (handed over tile by tile as they are drawn, or read from
+** a whole G-buffer when one is kept anyway), the stages (diffusion, box
+** filter), and the composite. The
 ** work is kept to where it matters: the diffusion starts from the ink's
 ** bounding box, the box filter runs over that box grown by the ink's reach,
 ** and the composite reads the tile pass's image only when something other
