@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "../base/mem.h"
+#include "../base/tasks.h"
 
 /* ---- the walk's data ----------------------------------------------------- */
 
@@ -104,43 +105,82 @@ static const int32_t (*mesh_neighbours(const Mesh *m))[3] {
   return (const int32_t(*)[3])nb;
 }
 
-static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, const WalkBox *box) {
+/* One object's walk data, made in chunks of AA_CHUNK vertices or
+** triangles on worker threads (tasks.h): each chunk writes its own range,
+** so the tables do not depend on the threads. */
+enum { AA_CHUNK = 16384 };
+
+typedef struct AaInit {
+  AaObject *a;
+  const RenderObject *o;
+  const RastVert *rv;
+  const WalkBox *box;
+  unsigned char *code;         /* per vertex: away_code */
+  unsigned char *any;          /* per vertex chunk: the OR of its codes */
+  int any_all;                 /* some vertex is away from the box */
+  const int32_t (*nb)[3];
+  int jumps;
+} AaInit;
+
+static void init_vertices(void *ctx, int k) {
+  AaInit *in = ctx;
+  const Mesh *m = in->o->mesh;
+  int v1 = (k + 1) * AA_CHUNK < m->nverts ? (k + 1) * AA_CHUNK : m->nverts;
+  unsigned any = 0;
+  for (int v = k * AA_CHUNK; v < v1; v++) {
+    const RastVert *r = &in->rv[v];
+    float *sv = in->a->sv[v];
+    sv[0] = r->outcode ? NAN : (float)r->X / (1 << RAST_SUBPIXEL_BITS);
+    sv[1] = (float)r->Y / (1 << RAST_SUBPIXEL_BITS);
+    sv[2] = r->z;
+    in->code[v] = (unsigned char)away_code(sv, in->box);
+    any |= in->code[v];
+  }
+  in->any[k] = (unsigned char)any;
+}
+
+static void init_triangles(void *ctx, int k) {
+  AaInit *in = ctx;
+  const RenderObject *o = in->o;
+  const Mesh *m = o->mesh;
+  const unsigned char *back = o->backfacing, *code = in->code;
+  int32_t (*adj)[3] = in->a->adj;
+  int t1 = (k + 1) * AA_CHUNK < m->ntris ? (k + 1) * AA_CHUNK : m->ntris;
+  for (int t = k * AA_CHUNK; t < t1; t++) {
+    const int *c = m->tri[t];
+    if (in->any_all && (code[c[0]] & code[c[1]] & code[c[2]])) {   /* wholly away from the window */
+      adj[t][0] = adj[t][1] = adj[t][2] = -1;
+      continue;
+    }
+    for (int j = 0; j < 3; j++) {
+      int g = neighbour(m, in->nb, t, j);
+      /* the walk stops where the surface ends, turns away (an outline)
+      ** or its shading jumps */
+      if (g >= 0 && (back[g] != back[t] || (in->jumps && shading_jumps(o, t, j, g)))) g = -1;
+      adj[t][j] = g;
+    }
+  }
+}
+
+static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, const WalkBox *box,
+                        int nthreads) {
   const Mesh *m = o->mesh;
   a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
   a->sv = xmalloc(((size_t)m->nverts + 1) * sizeof *a->sv);
-  unsigned char *code = xmalloc((size_t)m->nverts + 1);
-  unsigned any = 0;
-  for (int v = 0; v < m->nverts; v++) {
-    const RastVert *r = &rv[v];
-    a->sv[v][0] = r->outcode ? NAN : (float)r->X / (1 << RAST_SUBPIXEL_BITS);
-    a->sv[v][1] = (float)r->Y / (1 << RAST_SUBPIXEL_BITS);
-    a->sv[v][2] = r->z;
-    code[v] = (unsigned char)away_code(a->sv[v], box);
-    any |= code[v];
-  }
-  const int32_t (*nb)[3] = mesh_neighbours(m);
-  const unsigned char *back = o->backfacing;
-  int jumps = may_jump(o);   /* else only the surface's end and its turning away stop a walk */
   a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
-  for (int t = 0; t < m->ntris; t++) {
-    const int *c = m->tri[t];
-    if (any && (code[c[0]] & code[c[1]] & code[c[2]])) {   /* wholly away from the window */
-      a->adj[t][0] = a->adj[t][1] = a->adj[t][2] = -1;
-      continue;
-    }
-    for (int k = 0; k < 3; k++) {
-      int g = neighbour(m, nb, t, k);
-      /* the walk stops where the surface ends, turns away (an outline)
-      ** or its shading jumps */
-      if (g >= 0 && (back[g] != back[t] || (jumps && shading_jumps(o, t, k, g)))) g = -1;
-      a->adj[t][k] = g;
-    }
-  }
-  free(code);
+  int nvc = (m->nverts + AA_CHUNK - 1) / AA_CHUNK, ntc = (m->ntris + AA_CHUNK - 1) / AA_CHUNK;
+  AaInit in = {a, o, rv, box, xmalloc((size_t)m->nverts + 1), xcalloc((size_t)nvc + 1, 1), 0, NULL, 0};
+  tasks_run(nvc, nthreads, init_vertices, &in);
+  for (int k = 0; k < nvc; k++) in.any_all |= in.any[k];
+  in.nb = mesh_neighbours(m);
+  in.jumps = may_jump(o);   /* else only the surface's end and its turning away stop a walk */
+  tasks_run(ntc, nthreads, init_triangles, &in);
+  free(in.code);
+  free(in.any);
 }
 
-void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron) {
+void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron, int nthreads) {
   int n = f->samples;
   float g = (float)apron + 2;
   WalkBox box = {(float)f->win.x0 * n - g, (float)f->win.y0 * n - g, (float)f->win.x1 * n + g,
@@ -148,7 +188,7 @@ void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, in
   af->f = f;
   af->nobjects = f->nobjects;
   af->objects = xcalloc((size_t)f->nobjects + 1, sizeof *af->objects);
-  for (int i = 0; i < f->nobjects; i++) object_init(&af->objects[i], &f->objects[i], verts[i], &box);
+  for (int i = 0; i < f->nobjects; i++) object_init(&af->objects[i], &f->objects[i], verts[i], &box, nthreads);
 }
 
 void aa_frame_free(AaFrame *af) {

@@ -65,8 +65,9 @@ typedef struct AaBlend {
 ** projected into verts (per object, for the sample grid), for the tiles of
 ** f's window with an apron of apron samples: a triangle wholly away from
 ** them is never walked (a walk crosses one sample's step), so it gets no
-** neighbours, and a tile of a big frame does not pay for the whole mesh. */
-void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron);
+** neighbours, and a tile of a big frame does not pay for the whole mesh.
+** On up to nthreads threads; the same tables at any count. */
+void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron, int nthreads);
 void aa_frame_free(AaFrame *af);
 
 /* Where the shading steps at each sample of a tile: the level keys

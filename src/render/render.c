@@ -728,40 +728,58 @@ static void setup_triangles(const RenderFrame *f, int gw, int gh, int nthreads, 
 ** triangles. Each bin holds its front-facing triangles, then the ones
 ** facing away, each group in drawing order: back faces are mostly hidden
 ** by the front ones, and once those are drawn the tile pass can skip
-** them whole (tile_worker). */
-static void bin_triangles(Bins *b) {
+** them whole (tile_worker). Each pass runs in bands of tile rows on
+** worker threads; a band's task reads every entry but counts and fills
+** only its own rows' bins, in the same order at any thread count. */
+typedef struct BinJob {
+  Bins *b;
+  int nbands, pass;
+  int *front, *back;           /* pass 1: per tile, the entries placed so far */
+} BinJob;
+
+static void bin_band(void *ctx, int band) {
+  BinJob *job = ctx;
+  Bins *b = job->b;
+  int rows = b->ty1 - b->ty0;
+  int by0 = b->ty0 + (int)((long)rows * band / job->nbands), by1 = b->ty0 + (int)((long)rows * (band + 1) / job->nbands);
+  for (int l = 0; l < b->nlists; l++)
+    for (int i = 0; i < b->lists[l].n; i++) {
+      TileBox t = b->lists[l].boxes[i];
+      if (t.ty1 < by0 || t.ty0 >= by1) continue;
+      uint32_t item = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
+      int ty0 = t.ty0 > by0 ? t.ty0 : by0, ty1 = t.ty1 < by1 - 1 ? t.ty1 : by1 - 1;
+      int tx0 = t.tx0 > b->tx0 ? t.tx0 : b->tx0, tx1 = t.tx1 < b->tx1 - 1 ? t.tx1 : b->tx1 - 1;
+      for (int ty = ty0; ty <= ty1; ty++)
+        for (int tx = tx0; tx <= tx1; tx++) {
+          int k = ty * b->tiles_x + tx;
+          if (!job->pass) {
+            b->start[k + 1]++;
+            b->nfront[k] += !t.back;
+          } else if (t.back) {
+            b->items[b->start[k] + b->nfront[k] + job->back[k]++] = item;
+          } else {
+            b->items[b->start[k] + job->front[k]++] = item;
+          }
+        }
+    }
+}
+
+static void bin_triangles(Bins *b, int nthreads) {
   int ntiles = b->tiles_x * b->tiles_y;
   b->start = xcalloc((size_t)ntiles + 1, sizeof *b->start);
   b->nfront = xcalloc((size_t)ntiles + 1, sizeof *b->nfront);
-  for (int pass = 0; pass < 2; pass++) {
-    int *front = pass ? xcalloc((size_t)ntiles, sizeof *front) : NULL;
-    int *back = pass ? xcalloc((size_t)ntiles, sizeof *back) : NULL;
-    for (int l = 0; l < b->nlists; l++)
-      for (int i = 0; i < b->lists[l].n; i++) {
-        TileBox t = b->lists[l].boxes[i];
-        uint32_t item = (uint32_t)l << BIN_LOCAL_BITS | (uint32_t)i;
-        int ty0 = t.ty0 > b->ty0 ? t.ty0 : b->ty0, ty1 = t.ty1 < b->ty1 - 1 ? t.ty1 : b->ty1 - 1;
-        int tx0 = t.tx0 > b->tx0 ? t.tx0 : b->tx0, tx1 = t.tx1 < b->tx1 - 1 ? t.tx1 : b->tx1 - 1;
-        for (int ty = ty0; ty <= ty1; ty++)
-          for (int tx = tx0; tx <= tx1; tx++) {
-            int k = ty * b->tiles_x + tx;
-            if (!pass) {
-              b->start[k + 1]++;
-              b->nfront[k] += !t.back;
-            } else if (t.back) {
-              b->items[b->start[k] + b->nfront[k] + back[k]++] = item;
-            } else {
-              b->items[b->start[k] + front[k]++] = item;
-            }
-          }
-      }
-    if (!pass) {
-      for (int k = 0; k < ntiles; k++) b->start[k + 1] += b->start[k];
-      b->items = xmalloc((size_t)b->start[ntiles] * sizeof *b->items + 1);
-    }
-    free(front);
-    free(back);
-  }
+  int rows = b->ty1 - b->ty0;
+  BinJob job = {b, nthreads > 1 ? 2 * nthreads : 1, 0, NULL, NULL};   /* more bands than threads: */
+  if (job.nbands > rows) job.nbands = rows > 0 ? rows : 1;           /* bands differ in work */
+  tasks_run(job.nbands, nthreads, bin_band, &job);
+  for (int k = 0; k < ntiles; k++) b->start[k + 1] += b->start[k];
+  b->items = xmalloc((size_t)b->start[ntiles] * sizeof *b->items + 1);
+  job.pass = 1;
+  job.front = xcalloc((size_t)ntiles + 1, sizeof *job.front);
+  job.back = xcalloc((size_t)ntiles + 1, sizeof *job.back);
+  tasks_run(job.nbands, nthreads, bin_band, &job);
+  free(job.front);
+  free(job.back);
 }
 
 static void bins_free(Bins *b, int nobjects) {
@@ -1340,7 +1358,7 @@ static RenderPass *pass_begin(const RenderFrame *f, const RenderOptions *o, int 
   b->ty0 = f->win.y0 / RENDER_TILE;
   b->tx1 = (f->win.x1 + RENDER_TILE - 1) / RENDER_TILE;
   b->ty1 = (f->win.y1 + RENDER_TILE - 1) / RENDER_TILE;
-  bin_triangles(b);
+  bin_triangles(b, p->nthreads);
   p->total = (b->tx1 - b->tx0) * (b->ty1 - b->ty0);
   long long nset = 0;
   for (int l = 0; l < b->nlists; l++) nset += b->lists[l].n;
@@ -1390,7 +1408,7 @@ void render_pass_run(RenderPass *p, int y0, int y1, const RenderRows *rows, Imag
     job.full = gbuf_create(f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, N);
     job.full->camera = camera_scaled(&f->camera, f->width * N, f->height * N);
   }
-  if (p->bins.apron) aa_frame_init(&job.aa, f, p->bins.verts, p->bins.apron);
+  if (p->bins.apron) aa_frame_init(&job.aa, f, p->bins.verts, p->bins.apron, p->nthreads);
   run_workers(&job, p->nthreads < job.ntiles ? p->nthreads : job.ntiles);
   p->done += job.ntiles;
   stats_record("raster+shade", stats_now() - t1);
