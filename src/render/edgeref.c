@@ -50,20 +50,14 @@ typedef struct ScreenTri {
 
 typedef struct TriList { int n, cap; ScreenTri *t; } TriList;
 
-/* A clip-space point to pixels and nearness (1 - depth). */
-static void clip_to_screen(const double c[4], int w, int h, float *x, float *y, float *n) {
-  double iw = 1.0 / c[3];
-  *x = (float)((c[0] * iw + 1) * 0.5 * w);
-  *y = (float)((1 - c[1] * iw) * 0.5 * h);
-  *n = (float)((1 - c[2] * iw) * 0.5);
-}
-
 /* Which tiles hold samples: the summed-area table (tw + 1) x (th + 1) of
 ** them; NULL keeps every triangle. */
 typedef struct TileSat {
   int tw, th, bits;
   const int *sat;
   const int *tile;   /* tw * th: the tile's first sample, -1 = none */
+  const unsigned char *block;   /* tw * th: which of tiles (tx, ty), (tx + 1, ty), (tx, ty + 1)
+                                   and (tx + 1, ty + 1) hold samples, bits 0 to 3 */
 } TileSat;
 
 /* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold samples? */
@@ -137,7 +131,7 @@ static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double
   float s[4][3];
   for (int k = 0; k < np; k++) {
     if (!(poly[k][3] > 0)) return;
-    clip_to_screen(poly[k], w, h, &s[k][0], &s[k][1], &s[k][2]);
+    line_clip_to_screen(poly[k], w, h, &s[k][0], &s[k][1], &s[k][2]);
   }
   for (int k = 1; k + 1 < np; k++) {
     float p[9] = {s[0][0], s[0][1], s[0][2], s[k][0], s[k][1], s[k][2],
@@ -146,21 +140,13 @@ static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double
   }
 }
 
-/* A vertex in front of the near plane (z >= -w, w > 0) as clip_to_screen
-** puts it; in = 0 marks one the triangles around must clip. tile is the
-** index of the tile it lies in, -1 when it is off the image. */
-typedef struct ScreenVert { float x, y, n; int in, tile; } ScreenVert;
-
 /* Triangle t of object obj whose corners are all in front of the near
-** plane: what add_clipped does for it (the polygon is the triangle
-** itself), with the cheap rejections (off the image, no tile with
-** samples) before the slope arithmetic of append_tri. */
-static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, const ScreenVert *c,
+** plane (LineVert.in): what add_clipped does for it (the polygon is the
+** triangle itself), with the cheap rejections (off the image, no tile
+** with samples) before the slope arithmetic of append_tri. */
+static void add_front(TriList *l, const LineVert *a, const LineVert *b, const LineVert *c,
                       int obj, int tri, double factor, int w, int h, const TileSat *m) {
-  /* all three corners in one tile (most small triangles): so is the box,
-  ** and one look at that tile decides */
-  if (a->tile >= 0 && a->tile == b->tile && a->tile == c->tile && m->tile[a->tile] < 0) return;
-  /* the corners are finite (ScreenVert.in), so plain comparisons give
+  /* the corners are finite (LineVert.in), so plain comparisons give
   ** what fmin and fmax give */
   float ymin = a->y < b->y ? a->y : b->y, ymax = a->y < b->y ? b->y : a->y;
   float xmin = a->x < b->x ? a->x : b->x, xmax = a->x < b->x ? b->x : a->x;
@@ -178,11 +164,48 @@ static void add_front(TriList *l, const ScreenVert *a, const ScreenVert *b, cons
   append_tri(l, p, ymin, ymax, obj, tri, factor, h);   /* box and tiles checked */
 }
 
+/* No tile: a vertex that is not LineVert.in (its triangles are clipped). */
+#define NO_TILE 0xffffffffu
+
+/* The tile column and row (16 bits each) of each of m's vertices, clamped
+** to the image: those of a triangle's box are the least and greatest of
+** its corners'. */
+static uint32_t *vertex_tiles(const LineVert *v, int nverts, int w, int h, int bits) {
+  uint32_t *code = xmalloc(((size_t)nverts + 1) * sizeof *code);   /* every entry written below */
+  float xm = (float)(w - 1), ym = (float)(h - 1);
+  for (int k = 0; k < nverts; k++) {
+    float x = v[k].x < 0 ? 0 : v[k].x > xm ? xm : v[k].x;
+    float y = v[k].y < 0 ? 0 : v[k].y > ym ? ym : v[k].y;
+    code[k] = v[k].in ? (uint32_t)((int)y >> bits) << 16 | (uint32_t)((int)x >> bits) : NO_TILE;
+  }
+  return code;
+}
+
+/* Can a triangle with corner tiles a, b, c (vertex_tiles) be skipped
+** without a look at its box? When its tiles lie in two columns and two
+** rows at most and none of those holds samples: its box covers just
+** those, so sat_any would find none either. */
+static inline int far_from_samples(uint32_t a, uint32_t b, uint32_t c, const TileSat *m) {
+  if ((a == NO_TILE) | (b == NO_TILE) | (c == NO_TILE)) return 0;
+  uint32_t ax = a & 0xffff, bx = b & 0xffff, cx = c & 0xffff, ay = a >> 16, by = b >> 16, cy = c >> 16;
+  uint32_t x0 = ax < bx ? ax : bx, x1 = ax < bx ? bx : ax, y0 = ay < by ? ay : by, y1 = ay < by ? by : ay;
+  x0 = cx < x0 ? cx : x0;
+  x1 = cx > x1 ? cx : x1;
+  y0 = cy < y0 ? cy : y0;
+  y1 = cy > y1 ? cy : y1;
+  uint32_t dx = x1 - x0, dy = y1 - y0;
+  if ((dx | dy) > 1) return 0;
+  unsigned covered = 1u | dx << 1 | dy << 2 | (dx & dy) << 3;   /* the block's tiles the box covers */
+  return !(m->block[y0 * (uint32_t)m->tw + x0] & covered);
+}
+
 /* Every triangle of every object that reaches a tile of sat, with the
 ** offset its object's edges get from it, but for the back faces an
-** object's own front hides (LineObject.hidden). Each vertex is projected
-** once; only triangles with a corner behind the near plane go through
-** add_clipped. */
+** object's own front hides (LineObject.hidden). The vertices are the ones
+** line_edges_build projected; only triangles with a corner behind the
+** near plane go through add_clipped. Most triangles of a large mesh are
+** far from every edge: the tiles of their corners say so (far_from_samples)
+** before their box is made. */
 static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h,
                          const TileSat *sat) {
   for (int i = 0; i < edges->nobj; i++) {
@@ -191,31 +214,21 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     const SceneLines *ls = objs[i].lines;
     double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
     if (!(factor > 0)) factor = 0;
-    ScreenVert *sv = xmalloc(((size_t)m->nverts + 1) * sizeof *sv);   /* every entry written below */
-    for (int k = 0; k < m->nverts; k++) {
-      const double *c = v[k].clip;
-      ScreenVert s = {0, 0, 0, 0, -1};   /* in = 0: behind the near plane */
-      if (c[2] + c[3] >= 0 && c[3] > 0) {
-        clip_to_screen(c, w, h, &s.x, &s.y, &s.n);
-        s.in = isfinite(s.x) && isfinite(s.y) && isfinite(s.n);   /* else the general path */
-        if (s.in && s.x >= 0 && s.x < w && s.y >= 0 && s.y < h && sat)
-          s.tile = ((int)s.y >> sat->bits) * sat->tw + ((int)s.x >> sat->bits);
-      }
-      sv[k] = s;
-    }
+    uint32_t *code = sat ? vertex_tiles(v, m->nverts, w, h, sat->bits) : NULL;
     const unsigned char *hidden = objs[i].hidden;
     for (int t = 0; t < m->ntris; t++) {
       if (hidden && hidden[t]) continue;   /* behind the object's own front */
       const int *tv = m->tri[t];
-      const ScreenVert *a = &sv[tv[0]], *b = &sv[tv[1]], *c = &sv[tv[2]];
+      if (code && far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], sat)) continue;
+      const LineVert *a = &v[tv[0]], *b = &v[tv[1]], *c = &v[tv[2]];
       if (a->in & b->in & c->in) {
         add_front(l, a, b, c, i, t, factor, w, h, sat);
       } else {
-        const double *cc[3] = {v[tv[0]].clip, v[tv[1]].clip, v[tv[2]].clip};
+        const double *cc[3] = {a->clip, b->clip, c->clip};
         add_clipped(l, cc, i, t, factor, w, h, sat);
       }
     }
-    free(sv);
+    free(code);
   }
 }
 
@@ -256,8 +269,8 @@ static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, 
   }
   if (!(ca[3] > 0) || !(cb[3] > 0)) return;
   float x0, y0, n0, x1, y1, n1;
-  clip_to_screen(ca, w, h, &x0, &y0, &n0);
-  clip_to_screen(cb, w, h, &x1, &y1, &n1);
+  line_clip_to_screen(ca, w, h, &x0, &y0, &n0);
+  line_clip_to_screen(cb, w, h, &x1, &y1, &n1);
   double t0 = 0, t1 = 1, lim_w = w - 1e-3, lim_h = h - 1e-3;
   if (!clip_box(x0, y0, x1, y1, lim_w, lim_h, &t0, &t1)) return;
   if (t0 > 0) s->real0 = 0;
@@ -375,6 +388,20 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
       sm->step[s] = k;
     }
   free(at);
+}
+
+/* TileSat.block of sm's tiles. */
+static unsigned char *tile_blocks(const Samples *sm) {
+  int tw = sm->tw, th = sm->th;
+  unsigned char *b = xcalloc((size_t)tw * th + 1, 1);
+  for (int ty = 0; ty < th; ty++)
+    for (int tx = 0; tx < tw; tx++) {
+      if (sm->tile[ty * tw + tx] < 0) continue;
+      for (int dy = 0; dy < 2 && ty - dy >= 0; dy++)   /* the blocks that hold this tile */
+        for (int dx = 0; dx < 2 && tx - dx >= 0; dx++)
+          b[(ty - dy) * tw + tx - dx] |= (unsigned char)(1u << (dy * 2 + dx));
+    }
+  return b;
 }
 
 static void samples_free(Samples *sm) {
@@ -607,7 +634,8 @@ int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs,
   Samples sm;
   int *sat;
   make_samples(&sm, ref, &sat);
-  TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile};
+  unsigned char *block = tile_blocks(&sm);
+  TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile, block};
   TriList tris = {0, 0, NULL};
   if (sm.n) collect_tris(&tris, edges, objs, width, height, &ts);
   RefJob job = {ref, &tris, edges, edge_info(edges), &sm, band_count(threads, sm.th), NULL};
@@ -621,6 +649,7 @@ int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs,
   free(job.count);
   free((void *)job.info);
   free(sat);
+  free(block);
   free(tris.t);
   samples_free(&sm);
   for (int i = 0; i < edges->n; i++)

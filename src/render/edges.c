@@ -5,6 +5,7 @@
 */
 #include "edges.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -103,7 +104,6 @@ static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 
                              const Camera *cam) {
   oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);   /* every entry written below */
   const double(*M)[4] = cam->world_to_clip.m;
-  double fw = 0.5 * cam->width, fh = 0.5 * cam->height;
   for (int v = 0; v < m->nverts; v++) {
     LineVert *lv = &oe->vert[v];
     Vec3 p = m4_point(to_world, m->pos[v]);
@@ -111,10 +111,11 @@ static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 
     for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
       lv->clip[r] = M[r][0] * p.x + M[r][1] * p.y + M[r][2] * p.z + M[r][3];
     double w = lv->clip[3];
-    lv->x = lv->y = 0;   /* behind the eye */
-    if (w > 0) {   /* pixel = ((ndc + 1) / 2 * width, (1 - ndc.y) / 2 * height) */
-      lv->x = (float)((lv->clip[0] / w + 1) * fw);
-      lv->y = (float)((1 - lv->clip[1] / w) * fh);
+    lv->x = lv->y = lv->n = 0;   /* behind the eye */
+    lv->in = 0;
+    if (w > 0) {
+      line_clip_to_screen(lv->clip, cam->width, cam->height, &lv->x, &lv->y, &lv->n);
+      lv->in = lv->clip[2] + w >= 0 && isfinite(lv->x) && isfinite(lv->y) && isfinite(lv->n);
     }
   }
 }

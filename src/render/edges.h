@@ -33,11 +33,24 @@ typedef struct LineObject {
 } LineObject;
 
 /* A vertex in the reference image: clip coordinates and, when in front of
-** the camera (w > 0), its pixel position. */
+** the camera (w > 0), its pixel position and nearness (line_clip_to_screen). */
 typedef struct LineVert {
   double clip[4];
-  float x, y;              /* reference-image pixels (meaningless when clip[3] <= 0) */
+  float x, y, n;           /* reference-image pixels, nearness (meaningless when clip[3] <= 0) */
+  int in;                  /* in front of the near plane (z >= -w, w > 0) and x, y, n finite:
+                              a triangle of such corners needs no clipping */
 } LineVert;
+
+/* A clip-space point to reference pixels (w x h) and nearness (1 - depth):
+** the one projection the line stages use, so a vertex projected once and
+** a clip point projected later agree. */
+static inline void line_clip_to_screen(const double c[4], int w, int h, float *x, float *y,
+                                       float *n) {
+  double iw = 1.0 / c[3];
+  *x = (float)((c[0] * iw + 1) * 0.5 * w);
+  *y = (float)((1 - c[1] * iw) * 0.5 * h);
+  *n = (float)((1 - c[2] * iw) * 0.5);
+}
 
 /* Per-object edge data, built by line_edges_build. */
 typedef struct LineObjEdges {
