@@ -44,6 +44,8 @@ static int tile_bits(int w, int h, double mean_span) {
 typedef struct ScreenTri {
   float x[3], y[3], n[3];
   float off;
+  float nmax;                /* no point it covers is nearer (its corners' greatest
+                                nearness and the rounding of the sample test) */
   int obj, tri;              /* object index, mesh triangle */
   int ymin, ymax;            /* rows it may cover */
 } ScreenTri;
@@ -75,7 +77,7 @@ static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) 
 /* Append the triangle p (x0 y0 n0 x1 y1 n1 x2 y2 n2: pixels and
 ** nearness), whose rows span [ymin, ymax], if it has area. */
 static void append_tri(TriList *l, const float *p, double ymin, double ymax, int obj, int tri,
-                       double factor, int h) {
+                       double factor, int w, int h) {
   double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
   double det = ax * by - ay * bx;
   if (!(fabs(det) > 1e-12)) return;
@@ -86,6 +88,16 @@ static void append_tri(TriList *l, const float *p, double ymin, double ymax, int
   for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
   /* polygon offset: factor times the depth slope, plus a few ulps */
   t->off = (float)(factor * (fabs(dndx) + fabs(dndy))) + LINE_DEPTH_EPS;
+  /* n at a sample is the plane through the corners evaluated in doubles
+  ** (tri_test, test_tile): within the corners' range but for rounding,
+  ** which grows with the slope times the coordinates' size (generously
+  ** bounded here: 1e-12 against double's 1e-16), and for the float
+  ** rounding of the result (1e-6: ulps of nearness <= 1). Not finite
+  ** (a huge triangle): no bound. */
+  double nm = fmax(p[2], fmax(p[5], p[8])), reach = w + h;
+  for (int k = 0; k < 3; k++) reach += fabs(p[3 * k]) + fabs(p[3 * k + 1]);
+  nm += 1e-6 + 1e-12 * (fabs(dndx) + fabs(dndy) + 1) * reach;
+  t->nmax = isfinite(nm) ? (float)nm : INFINITY;
   t->obj = obj;
   t->tri = tri;
   /* (int)fmax(0, floor(ymin)) and (int)fmin(h - 1, ceil(ymax)) without the
@@ -108,7 +120,7 @@ static void push_tri(TriList *l, const float *p, int obj, int tri, double factor
   if (m && !sat_any(m, (int)fmax(0, xmin) >> m->bits, (int)fmax(0, ymin) >> m->bits,
                     (int)fmin(w - 1, xmax) >> m->bits, (int)fmin(h - 1, ymax) >> m->bits))
     return;   /* no edge near it: nothing will test against it */
-  append_tri(l, p, ymin, ymax, obj, tri, factor, h);
+  append_tri(l, p, ymin, ymax, obj, tri, factor, w, h);
 }
 
 /* Clip the triangle c[3] against the near plane (z >= -w) and append the
@@ -161,7 +173,7 @@ static void add_front(TriList *l, const LineVert *a, const LineVert *b, const Li
                     (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> m->bits))
     return;
   float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
-  append_tri(l, p, ymin, ymax, obj, tri, factor, h);   /* box and tiles checked */
+  append_tri(l, p, ymin, ymax, obj, tri, factor, w, h);   /* box and tiles checked */
 }
 
 /* No tile: a vertex that is not LineVert.in (its triangles are clipped). */
@@ -500,6 +512,16 @@ static void test_tile(const TriTest *q, int k, Samples *sm, int tile) {
   }
 }
 
+/* May a triangle no point of which is nearer than nmax be the nearest
+** surface found at a sample of tile? Only where what was found so far is
+** less near: elsewhere test_tile would change nothing, and the triangle's
+** set-up (tri_test) is not needed. */
+static inline int tile_may_win(const Samples *sm, int tile, float nmax) {
+  for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++)
+    if (sm->near[s] < nmax) return 1;
+  return 0;
+}
+
 /* The first index in row_tx[a, b) whose column is at least tx. */
 static int first_column(const int *row_tx, int a, int b, int tx) {
   while (a < b) {
@@ -529,7 +551,7 @@ static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, i
     for (int ty = ra; ty <= rb; ty++)
       for (int tx = tx0; tx <= tx1; tx++) {
         int tile = ty * sm->tw + tx;
-        if (sm->tile[tile] < 0) continue;
+        if (sm->tile[tile] < 0 || !tile_may_win(sm, tile, t->nmax)) continue;
         if (!set) { tri_test(t, &q); set = 1; }
         test_tile(&q, k, sm, tile);
       }
@@ -548,8 +570,10 @@ static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, i
     if (lo > (float)(c0 << bits)) c0 = (int)lo >> bits;
     if (hi < (float)((c1 + 1) << bits)) c1 = hi < 0 ? -1 : (int)hi >> bits;
     for (int i = first_column(sm->row_tx, a, b, c0); i < b && sm->row_tx[i] <= c1; i++) {
+      int tile = ty * sm->tw + sm->row_tx[i];
+      if (!tile_may_win(sm, tile, t->nmax)) continue;
       if (!set) { tri_test(t, &q); set = 1; }
-      test_tile(&q, k, sm, ty * sm->tw + sm->row_tx[i]);
+      test_tile(&q, k, sm, tile);
     }
   }
 }
