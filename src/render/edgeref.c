@@ -94,10 +94,11 @@ static void append_tri(TriList *l, const float *p, double ymin, double ymax, int
   ** bounded here: 1e-12 against double's 1e-16), and for the float
   ** rounding of the result (1e-6: ulps of nearness <= 1). Not finite
   ** (a huge triangle): no bound. */
-  double nm = fmax(p[2], fmax(p[5], p[8])), reach = w + h;
-  for (int k = 0; k < 3; k++) reach += fabs(p[3 * k]) + fabs(p[3 * k + 1]);
-  nm += 1e-6 + 1e-12 * (fabs(dndx) + fabs(dndy) + 1) * reach;
-  t->nmax = isfinite(nm) ? (float)nm : INFINITY;
+  float nm = p[2] > p[5] ? p[2] : p[5];
+  nm = p[8] > nm ? p[8] : nm;
+  double reach = w + h + fabs(p[0]) + fabs(p[1]) + fabs(p[3]) + fabs(p[4]) + fabs(p[6]) + fabs(p[7]);
+  double bound = nm + 1e-6 + 1e-12 * (fabs(dndx) + fabs(dndy) + 1) * reach;
+  t->nmax = isfinite(bound) ? (float)bound : INFINITY;
   t->obj = obj;
   t->tri = tri;
   /* (int)fmax(0, floor(ymin)) and (int)fmin(h - 1, ceil(ymax)) without the
