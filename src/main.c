@@ -22,6 +22,7 @@
 #include "io/crease.h"
 #include "io/fold.h"
 #include "io/mesh_export.h"
+#include "io/mesh_import.h"
 #include "geom/refine.h"
 #include "geom/subdiv.h"
 #include "lang/ast.h"
@@ -579,14 +580,20 @@ static int render_frame_to(const Options *o, double clock, int frame, const char
   eo.clock = clock;
   eo.frame = frame;
   double t1 = now_seconds();
+  long kept = mesh_import_cache_hits();
   int ok = prog && !diag_error_count() && eval_program(prog, file, &arena, &eo, &scene) == 0;
+  kept = mesh_import_cache_hits() - kept;
   if (ok) warn_nothing_drawn(&scene, file);
   if (ok) warn_origami_shade_on_objects(&scene);
   if (ok && scene_any_image(&scene, image_read_needs_bridge)) image_bridge_prefetch();
   if (ok && origami_check_scene(&scene) == 0) {
     stats_record("parse", t1 - t0);
     stats_record("eval", now_seconds() - t1);
+    if (kept) stats_record_count("eval", "meshes kept", kept);
+    long refined = subdiv_cache_hits();
     status = render_to(o, &scene, path);
+    refined = subdiv_cache_hits() - refined;
+    if (refined) stats_record_count("subdiv", "meshes kept", refined);
   }
   if (o->stats) stats_print(stderr);
   scene_free(&scene);
@@ -659,8 +666,12 @@ static int cmd_render(const Options *o) {
   }
   prefetch_for_output(o);
   progress_begin(fs.count, o->quiet);
-  /* a static subdivided mesh is the same every frame: refine it once */
-  if (fs.count > 1) subdiv_cache_keep(SUBDIV_CACHE_FRAMES);
+  /* a static mesh file is the same every frame: read it once; a static
+  ** subdivided mesh too: refine it once */
+  if (fs.count > 1) {
+    mesh_import_cache_keep(SUBDIV_CACHE_FRAMES);
+    subdiv_cache_keep(SUBDIV_CACHE_FRAMES);
+  }
   int status = 0;
   for (int k = 0; k < fs.count && !status; k++) {
     int fr = fs.frames[k];
@@ -677,6 +688,7 @@ static int cmd_render(const Options *o) {
   }
   progress_end();
   subdiv_cache_clear();
+  mesh_import_cache_clear();
   frames_free(&fs);
   return status;
 }

@@ -78,6 +78,25 @@ for fr in 0 1 2 3 4; do
 done
 if [ "$s" = 1 ]; then ok; else bad "frames of a kept mesh differ from the same frames rendered alone"; fi
 
+# an imported mesh under an orbiting camera (tests/data/frames/orbit.npr):
+# the run reads the file and refines it at frame 0 only (--stats counts
+# what the caches answered: 3 of 4 frames each, and nothing at frame 0),
+# and each frame has the bytes it has rendered alone
+mkdir -p "$OUT/orbit"
+"$SUMI" render "$ROOT/tests/data/frames/orbit.npr" --frames 0:3 --stats --quiet -o "$OUT/orbit/all_####.png" \
+  2>"$OUT/orbit/stats" || bad "the orbit run failed"
+kept=$(grep -c 'meshes kept' "$OUT/orbit/stats")
+last=$(grep -E '^stats: (eval|subdiv) ' "$OUT/orbit/stats" | tail -2 | sed 's/.*meshes kept //' | tr '\n' ' ')
+if [ "$kept" = 6 ] && [ "$last" = "3 3 " ]; then ok
+else bad "orbit: the caches answered $kept stage lines, at the end '$last' (not 6 lines ending '3 3 ')"; fi
+s=1
+for fr in 0 1 2 3; do
+  "$SUMI" render "$ROOT/tests/data/frames/orbit.npr" --frames 0:3 --only $fr --quiet -o "$OUT/orbit/one_####.png"
+  cmp -s "$OUT/orbit/all_000$fr.png" "$OUT/orbit/one_000$fr.png" || s=0
+done
+cmp -s "$OUT/orbit/all_0000.png" "$OUT/orbit/all_0001.png" && s=0   # the camera moves
+if [ "$s" = 1 ]; then ok; else bad "orbit: frames differ from the same frames rendered alone"; fi
+
 # --resume: whole frames are skipped (their files untouched), one cut
 # short and one missing are rendered again, to the whole run's bytes
 mkdir -p "$OUT/resume"

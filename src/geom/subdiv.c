@@ -291,6 +291,7 @@ typedef struct CacheEntry {
 } CacheEntry;
 
 static struct {
+  long hits;                   /* refinements the cache gave */
   int max;                     /* entries kept; 0: no cache */
   int n, next;                 /* entries held; the one replaced next when full */
   CacheEntry *e;
@@ -394,9 +395,15 @@ void subdiv_cache_keep(int entries) {
 }
 
 void subdiv_cache_clear(void) {
+  long hits = cache.hits;
   for (int i = 0; i < cache.n; i++) entry_free(&cache.e[i]);
   free(cache.e);
   memset(&cache, 0, sizeof cache);
+  cache.hits = hits;
+}
+
+long subdiv_cache_hits(void) {
+  return cache.hits;
 }
 
 Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
@@ -404,6 +411,7 @@ Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, s
   if (i >= 0 && cache.e[i].mesh) {   /* lent out until subdiv_mesh_done */
     Mesh *m = cache.e[i].mesh;
     cache.e[i].mesh = NULL;
+    cache.hits++;
     return m;
   }
   Mesh *m = subdiv_mesh_ex(g, boundary, NULL, err, errlen);

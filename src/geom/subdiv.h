@@ -52,6 +52,8 @@ Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, s
 ** as at start. subdiv_cache_clear frees them. */
 void subdiv_cache_keep(int entries);
 void subdiv_cache_clear(void);
+/* How many times, in this process, subdiv_mesh handed over a kept mesh. */
+long subdiv_cache_hits(void);
 /* Refinements `sumi render --frames` keeps (a scene's subdivided objects
 ** beyond that are refined again each frame). */
 #define SUBDIV_CACHE_FRAMES 8

@@ -428,11 +428,139 @@ static int child_failed(int status, int timeout_s, char *err, size_t errlen) {
   return failf(err, errlen, "Assimp failed reading it (out of memory?)");
 }
 
+/* ---- the cache across frames ---------------------------------------------- */
+
+/* One file's import as the file was then (its identity, time and size),
+** with the note it gave. */
+typedef struct Kept {
+  char *path;
+  dev_t dev;
+  ino_t ino;
+  struct timespec mtime;
+  off_t size;
+  char *note;
+  int nverts, nfaces, nidx;
+  Vec3 *verts;
+  int *face_start, *face_index;
+  Vec2 *face_uv;               /* NULL: no texture coordinates */
+} Kept;
+
+static struct {
+  int max, n, next;            /* entries kept (0: no cache), held, replaced next */
+  Kept *e;
+  long hits;
+} kept;
+
+static void *dup_bytes(const void *p, size_t n, void *dst) {
+  if (!dst) dst = xmalloc(n + 1);
+  if (n) memcpy(dst, p, n);
+  return dst;
+}
+
+static void kept_free(Kept *k) {
+  free(k->path);
+  free(k->note);
+  free(k->verts);
+  free(k->face_start);
+  free(k->face_index);
+  free(k->face_uv);
+  memset(k, 0, sizeof *k);
+}
+
+void mesh_import_cache_keep(int entries) {
+  mesh_import_cache_clear();
+  kept.max = entries > 0 ? entries : 0;
+  kept.e = kept.max ? xcalloc((size_t)kept.max, sizeof *kept.e) : NULL;
+}
+
+void mesh_import_cache_clear(void) {
+  for (int i = 0; i < kept.n; i++) kept_free(&kept.e[i]);
+  free(kept.e);
+  memset(&kept, 0, sizeof kept);
+}
+
+long mesh_import_cache_hits(void) {
+  return kept.hits;
+}
+
+static int same_file(const Kept *k, const char *path, const struct stat *st) {
+  return !strcmp(k->path, path) && k->dev == st->st_dev && k->ino == st->st_ino &&
+         k->mtime.tv_sec == st->st_mtim.tv_sec && k->mtime.tv_nsec == st->st_mtim.tv_nsec &&
+         k->size == st->st_size;
+}
+
+/* The kept import of path as it is now into out (in arena): 1, or 0 when
+** there is none. */
+static int kept_take(const char *path, const struct stat *st, SceneGeometry *out, Arena *arena,
+                     char *err, size_t errlen) {
+  for (int i = 0; i < kept.n; i++) {
+    const Kept *k = &kept.e[i];
+    if (!same_file(k, path, st)) continue;
+    out->nverts = k->nverts;
+    out->nfaces = k->nfaces;
+    out->verts = dup_bytes(k->verts, sizeof(Vec3) * (size_t)k->nverts,
+                           arena_alloc(arena, sizeof(Vec3) * (size_t)k->nverts));
+    out->face_start = dup_bytes(k->face_start, sizeof(int) * ((size_t)k->nfaces + 1),
+                                arena_alloc(arena, sizeof(int) * ((size_t)k->nfaces + 1)));
+    out->face_index = dup_bytes(k->face_index, sizeof(int) * (size_t)k->nidx,
+                                arena_alloc(arena, sizeof(int) * (size_t)k->nidx));
+    if (k->face_uv)
+      out->face_uv = dup_bytes(k->face_uv, sizeof(Vec2) * (size_t)k->nidx,
+                               arena_alloc(arena, sizeof(Vec2) * (size_t)k->nidx));
+    snprintf(err, errlen, "%s", k->note);
+    kept.hits++;
+    return 1;
+  }
+  return 0;
+}
+
+/* Keep g, read from path as st has it, with its note (the oldest entry
+** goes when the cache is full). */
+static void kept_store(const char *path, const struct stat *st, const SceneGeometry *g,
+                       const char *note) {
+  Kept *k;
+  if (kept.n < kept.max) k = &kept.e[kept.n++];
+  else {
+    k = &kept.e[kept.next];
+    kept.next = (kept.next + 1) % kept.max;
+    kept_free(k);
+  }
+  k->path = xstrdup(path);
+  k->dev = st->st_dev;
+  k->ino = st->st_ino;
+  k->mtime = st->st_mtim;
+  k->size = st->st_size;
+  k->note = xstrdup(note);
+  k->nverts = g->nverts;
+  k->nfaces = g->nfaces;
+  k->nidx = g->face_start[g->nfaces];
+  k->verts = dup_bytes(g->verts, sizeof(Vec3) * (size_t)g->nverts, NULL);
+  k->face_start = dup_bytes(g->face_start, sizeof(int) * ((size_t)g->nfaces + 1), NULL);
+  k->face_index = dup_bytes(g->face_index, sizeof(int) * (size_t)k->nidx, NULL);
+  k->face_uv = g->face_uv ? dup_bytes(g->face_uv, sizeof(Vec2) * (size_t)k->nidx, NULL) : NULL;
+}
+
+/* ---- the entry points ------------------------------------------------------ */
+
+static int import_isolated(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                           size_t errlen, int timeout_s);
+
 int mesh_import_file_limited(const char *path, SceneGeometry *out, Arena *arena, char *err,
                              size_t errlen, int timeout_s) {
   memset(out, 0, sizeof *out);
   out->kind = GEOM_MESH;
   if (!check_file(path, err, errlen)) return 1;
+  struct stat st;
+  int known = kept.max > 0 && stat(path, &st) == 0;
+  if (known && kept_take(path, &st, out, arena, err, errlen)) return 0;
+  int status = import_isolated(path, out, arena, err, errlen, timeout_s);
+  if (known && status == 0) kept_store(path, &st, out, err);
+  return status;
+}
+
+/* Assimp's read in a child process (see "isolation" above). */
+static int import_isolated(const char *path, SceneGeometry *out, Arena *arena, char *err,
+                           size_t errlen, int timeout_s) {
   int fd[2];
   if (pipe(fd) != 0) return import_file(path, out, arena, err, errlen) ? 0 : 1;
   fflush(NULL);   /* the child must not write our buffered output twice */

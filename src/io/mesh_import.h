@@ -55,4 +55,14 @@ int mesh_import_file_limited(const char *path, SceneGeometry *out, Arena *arena,
 int mesh_import_file_in_process(const char *path, SceneGeometry *out, Arena *arena, char *err,
                                 size_t errlen);
 
+/* Across the frames of one run: with mesh_import_cache_keep(N), the last N
+** files read are kept, each with its path, identity (device, inode),
+** modification time and size, and a file read again unchanged is copied
+** from there instead of read by Assimp again (the same geometry and the
+** same note). mesh_import_cache_clear drops them and stops keeping;
+** mesh_import_cache_hits counts the reads the cache answered. */
+void mesh_import_cache_keep(int entries);
+void mesh_import_cache_clear(void);
+long mesh_import_cache_hits(void);
+
 #endif

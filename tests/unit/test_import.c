@@ -5,6 +5,7 @@
 ** ($SUMI_ASSIMP_MODELS, default its Debian location); those tests skip
 ** cleanly where it is not installed.
 */
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -346,6 +347,61 @@ TEST(obj_uvs_per_corner) {
   arena_free(&a);
 }
 
+/* Across frames: a file read again unchanged comes from the cache, the
+** same geometry and the same note; a file rewritten (another size) or
+** touched (another time) is read again; a failed read is not kept. */
+static int same_geometry(const SceneGeometry *a, const SceneGeometry *b) {
+  int nidx = a->face_start[a->nfaces];
+  return a->nverts == b->nverts && a->nfaces == b->nfaces && nidx == b->face_start[b->nfaces] &&
+         !memcmp(a->verts, b->verts, sizeof(Vec3) * (size_t)a->nverts) &&
+         !memcmp(a->face_start, b->face_start, sizeof(int) * ((size_t)a->nfaces + 1)) &&
+         !memcmp(a->face_index, b->face_index, sizeof(int) * (size_t)nidx) &&
+         (a->face_uv == NULL) == (b->face_uv == NULL) &&
+         (!a->face_uv || !memcmp(a->face_uv, b->face_uv, sizeof(Vec2) * (size_t)nidx));
+}
+
+TEST(cache_across_frames) {
+  Arena a;
+  arena_init(&a);
+  SceneGeometry g0, g1, g2, g3;
+  char err0[256], err1[256], err2[256];
+  /* one face of three distinct corners, one dropped: a note */
+  const char *obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\nf 1 1 2\n";
+  const char *path = write_file("kept.obj", obj);
+  CHECK(import(path, &g0, &a, err0, sizeof err0));   /* no cache yet: not kept */
+  mesh_import_cache_keep(2);
+  long hits = mesh_import_cache_hits();
+  CHECK(import(path, &g1, &a, err1, sizeof err1));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits);
+  CHECK(import(path, &g2, &a, err2, sizeof err2));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits + 1);
+  CHECK(same_geometry(&g0, &g1) && same_geometry(&g0, &g2) && g2.face_uv != NULL);
+  CHECK(g2.verts != g1.verts);   /* a copy in the caller's arena */
+  CHECK(err0[0] && !strcmp(err0, err1) && !strcmp(err0, err2));
+  /* rewritten: a second triangle */
+  write_file("kept.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  CHECK(import(path, &g3, &a, err2, sizeof err2));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits + 1);
+  CHECK_EQ_INT(g3.nfaces, 2);
+  CHECK(!err2[0]);
+  /* the same bytes with another modification time are read again */
+  struct timespec times[2] = {{0, UTIME_OMIT}, {1000000000, 0}};
+  CHECK(utimensat(AT_FDCWD, path, times, 0) == 0);
+  CHECK(import(path, &g3, &a, err2, sizeof err2));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits + 1);
+  CHECK(import(path, &g3, &a, err2, sizeof err2));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits + 2);
+  CHECK_EQ_INT(g3.nfaces, 2);
+  /* a failure is said again, not kept */
+  write_file("kept.obj", "v 0 0 0\nv 1 0 0\n");
+  CHECK(!import(path, &g3, &a, err2, sizeof err2));
+  CHECK(!import(path, &g3, &a, err2, sizeof err2));
+  CHECK_EQ_INT(mesh_import_cache_hits(), hits + 2);
+  mesh_import_cache_clear();
+  write_file("kept.obj", obj);
+  arena_free(&a);
+}
+
 int main(void) {
   snprintf(tmpdir, sizeof tmpdir, "%s/sumi-import-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
   if (!mkdtemp(tmpdir)) { perror("mkdtemp"); return 1; }
@@ -356,9 +412,10 @@ int main(void) {
   RUN(assimp_crash_and_loop_are_errors);
   RUN(testmodels_read);
   RUN(testmodels_broken);
+  RUN(cache_across_frames);
   /* remove what we wrote */
   static const char *files[] = {"cube.obj", "seam.obj", "pent.obj", "empty.obj", "points.obj", "range.obj",
-                                "junk.ply", "garbage.xyzzy", "crash.ply", "loop.ply"};
+                                "junk.ply", "garbage.xyzzy", "crash.ply", "loop.ply", "kept.obj"};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
     char p[512];
     snprintf(p, sizeof p, "%s/%s", tmpdir, files[i]);
