@@ -22,6 +22,17 @@ Mesh *mesh_create(int nverts, int ntris) {
   return m;
 }
 
+Mesh *mesh_alloc(int nverts, int ntris) {
+  Mesh *m = xcalloc(1, sizeof *m);
+  m->nverts = nverts;
+  m->ntris = ntris;
+  m->pos = xmalloc((size_t)(nverts > 0 ? nverts : 1) * sizeof *m->pos);
+  m->nrm = xmalloc((size_t)(nverts > 0 ? nverts : 1) * sizeof *m->nrm);
+  m->tri = xmalloc((size_t)(ntris > 0 ? ntris : 1) * sizeof *m->tri);
+  m->tri_face = xmalloc((size_t)(ntris > 0 ? ntris : 1) * sizeof *m->tri_face);
+  return m;
+}
+
 void *mesh_derived(const Mesh *m, const void *tag) {
   for (const MeshDerived *d = m->derived; d; d = d->next)
     if (d->tag == tag) return d->data;

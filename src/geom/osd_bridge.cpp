@@ -137,22 +137,40 @@ struct SumiOsdMesh {
 
 namespace {
 
-Far::TopologyRefiner *make_refiner(SumiOsdMesh const &m) {
+// The handle's copies seen as the topology they were made from.
+SumiOsdTopology topology_of(SumiOsdMesh const &m) {
+  SumiOsdTopology t;
+  t.nverts = m.nverts;
+  t.nfaces = (int)m.face_size.size();
+  t.face_size = m.face_size.data();
+  t.face_index = m.face_index.data();
+  t.ncreases = (int)m.crease_sharpness.size();
+  t.crease_verts = m.crease_verts.data();
+  t.crease_sharpness = m.crease_sharpness.data();
+  t.ncorners = (int)m.corner_sharpness.size();
+  t.corner_verts = m.corner_verts.data();
+  t.corner_sharpness = m.corner_sharpness.data();
+  t.scheme = m.scheme;
+  t.boundary = m.boundary;
+  return t;
+}
+
+Far::TopologyRefiner *make_refiner(SumiOsdTopology const &t) {
   Far::TopologyDescriptor d;
-  d.numVertices = m.nverts;
-  d.numFaces = (int)m.face_size.size();
-  d.numVertsPerFace = m.face_size.data();
-  d.vertIndicesPerFace = m.face_index.data();
-  d.numCreases = (int)m.crease_sharpness.size();
-  d.creaseVertexIndexPairs = m.crease_verts.data();
-  d.creaseWeights = m.crease_sharpness.data();
-  d.numCorners = (int)m.corner_sharpness.size();
-  d.cornerVertexIndices = m.corner_verts.data();
-  d.cornerWeights = m.corner_sharpness.data();
+  d.numVertices = t.nverts;
+  d.numFaces = t.nfaces;
+  d.numVertsPerFace = t.face_size;
+  d.vertIndicesPerFace = t.face_index;
+  d.numCreases = t.ncreases;
+  d.creaseVertexIndexPairs = t.crease_verts;
+  d.creaseWeights = t.crease_sharpness;
+  d.numCorners = t.ncorners;
+  d.cornerVertexIndices = t.corner_verts;
+  d.cornerWeights = t.corner_sharpness;
   Sdc::Options sdc;
-  sdc.SetVtxBoundaryInterpolation(boundary_type(m.boundary));
+  sdc.SetVtxBoundaryInterpolation(boundary_type(t.boundary));
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  return Factory::Create(d, Factory::Options(scheme_type(m.scheme), sdc));
+  return Factory::Create(d, Factory::Options(scheme_type(t.scheme), sdc));
 }
 
 // The checks OpenSubdiv does not make itself (an index out of range would
@@ -196,19 +214,33 @@ int check_topology(const SumiOsdTopology *t, char *err, size_t errlen) {
 }
 
 // Creases name vertex pairs; each must be an edge of the base mesh.
-int check_creases(SumiOsdMesh const &m, char *err, size_t errlen) {
-  Far::TopologyLevel const &l0 = m.base->GetLevel(0);
-  for (size_t c = 0; c < m.crease_sharpness.size(); c++) {
-    int a = m.crease_verts[2 * c], b = m.crease_verts[2 * c + 1];
+int check_creases(SumiOsdTopology const &t, Far::TopologyRefiner const &r, char *err,
+                  size_t errlen) {
+  Far::TopologyLevel const &l0 = r.GetLevel(0);
+  for (int c = 0; c < t.ncreases; c++) {
+    int a = t.crease_verts[2 * c], b = t.crease_verts[2 * c + 1];
     if (l0.FindEdge(a, b) == Far::INDEX_INVALID)
-      return fail(err, errlen, "crease %d: vertices %d and %d share no edge of the mesh", (int)c, a,
-                  b);
+      return fail(err, errlen, "crease %d: vertices %d and %d share no edge of the mesh", c, a, b);
   }
   return 1;
 }
 
+// The base refiner of t after every check (NULL and a reason in err).
+Far::TopologyRefiner *checked_refiner(const SumiOsdTopology *t, char *err, size_t errlen) {
+  if (!check_topology(t, err, errlen)) return nullptr;
+  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(*t));
+  if (!r) {
+    fail(err, errlen, "OpenSubdiv rejected the mesh: %s",
+         osd_message.empty() ? "invalid topology" : osd_message.c_str());
+    return nullptr;
+  }
+  if (!check_creases(*t, *r, err, errlen)) return nullptr;
+  return r.release();
+}
+
 int create(const SumiOsdTopology *t, SumiOsdMesh **out, char *err, size_t errlen) {
-  if (!check_topology(t, err, errlen)) return 0;
+  std::unique_ptr<Far::TopologyRefiner> base(checked_refiner(t, err, errlen));
+  if (!base) return 0;
   std::unique_ptr<SumiOsdMesh> m(new SumiOsdMesh);
   long nidx = 0;
   for (int f = 0; f < t->nfaces; f++) nidx += t->face_size[f];
@@ -221,11 +253,7 @@ int create(const SumiOsdTopology *t, SumiOsdMesh **out, char *err, size_t errlen
   m->crease_sharpness.assign(t->crease_sharpness, t->crease_sharpness + t->ncreases);
   m->corner_verts.assign(t->corner_verts, t->corner_verts + t->ncorners);
   m->corner_sharpness.assign(t->corner_sharpness, t->corner_sharpness + t->ncorners);
-  m->base.reset(make_refiner(*m));
-  if (!m->base)
-    return fail(err, errlen, "OpenSubdiv rejected the mesh: %s",
-                osd_message.empty() ? "invalid topology" : osd_message.c_str());
-  if (!check_creases(*m, err, errlen)) return 0;
+  m->base = std::move(base);   // made from t, the same arrays as the copies
   m->factory.reset(new Bfr::RefinerSurfaceFactory<>(*m->base));
   *out = m.release();
   return 1;
@@ -243,12 +271,12 @@ T *copy_out(std::vector<T> const &v) {
 
 // Base crease tag of every edge of the last level: each user crease marks
 // its base edge, and each edge passes its tag to its two children.
-std::vector<float> tagged_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r) {
+std::vector<float> tagged_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r) {
   Far::TopologyLevel const &l0 = r.GetLevel(0);
   std::vector<float> tag(l0.GetNumEdges(), 0.0f);
-  for (size_t c = 0; c < m.crease_sharpness.size(); c++) {
-    Far::Index e = l0.FindEdge(m.crease_verts[2 * c], m.crease_verts[2 * c + 1]);
-    if (e != Far::INDEX_INVALID) tag[e] = std::max(tag[e], m.crease_sharpness[c]);
+  for (int c = 0; c < t.ncreases; c++) {
+    Far::Index e = l0.FindEdge(t.crease_verts[2 * c], t.crease_verts[2 * c + 1]);
+    if (e != Far::INDEX_INVALID) tag[e] = std::max(tag[e], t.crease_sharpness[c]);
   }
   for (int l = 1; l <= r.GetMaxLevel(); l++) {
     Far::TopologyLevel const &parent = r.GetLevel(l - 1);
@@ -349,9 +377,9 @@ void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
 }
 
 // Edges of the last level with their crease tags, and vertex sharpness.
-void collect_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r, SumiOsdRefined *out) {
+void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, SumiOsdRefined *out) {
   Far::TopologyLevel const &last = r.GetLevel(r.GetMaxLevel());
-  std::vector<float> tag = tagged_edges(m, r), sharp, sharp_now;
+  std::vector<float> tag = tagged_edges(t, r), sharp, sharp_now;
   std::vector<int> sharp_verts;
   int *everts = out->edge_verts = alloc_array<int>(2 * (size_t)last.GetNumEdges());
   for (int e = 0; e < last.GetNumEdges(); e++) {
@@ -374,24 +402,42 @@ void collect_edges(SumiOsdMesh const &m, Far::TopologyRefiner const &r, SumiOsdR
   out->sharp_now = copy_out(sharp_now);
 }
 
-// Fills *out (zeroed by the caller, who frees it if this throws midway).
-int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
-           size_t errlen) {
-  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
-  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(*m));
-  if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
+// Refines r (t's base refiner) in place and fills *out (zeroed by the
+// caller, who frees it if this throws midway); out->ctrl only with
+// keep_ctrl.
+void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, const double *pos,
+               int keep_ctrl, SumiOsdRefined *out) {
   Far::TopologyRefiner::UniformOptions uo(level);
-  uo.fullTopologyInLastLevel = true;  // edges of the last level, for the crease tags
-  r->RefineUniform(uo);
-  std::vector<Point> ctrl = interpolate(*r, pos, m->nverts);
+  uo.fullTopologyInLastLevel = true;  // Limit needs it, and the crease tags the last edges
+  r.RefineUniform(uo);
+  std::vector<Point> ctrl = interpolate(r, pos, t.nverts);
   out->level = level;
   out->nverts = (int)ctrl.size();
   out->limit = alloc_points(ctrl.size());
   out->normal = alloc_points(ctrl.size());
-  limit_points(*r, ctrl, m->scheme, out->limit, out->normal);
-  out->ctrl = copy_points(ctrl);
-  collect_faces(*r, out);
-  collect_edges(*m, *r, out);
+  limit_points(r, ctrl, t.scheme, out->limit, out->normal);
+  if (keep_ctrl) out->ctrl = copy_points(ctrl);
+  std::vector<Point>().swap(ctrl);   // gone before the topology is copied out (peak memory)
+  collect_faces(r, out);
+  collect_edges(t, r, out);
+}
+
+int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
+           size_t errlen) {
+  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
+  SumiOsdTopology t = topology_of(*m);
+  std::unique_ptr<Far::TopologyRefiner> r(make_refiner(t));
+  if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
+  refine_in(*r, t, level, pos, 1, out);
+  return 1;
+}
+
+int refine_topology(const SumiOsdTopology *t, int level, const double *pos, int keep_ctrl,
+                    SumiOsdRefined *out, char *err, size_t errlen) {
+  std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(t, err, errlen));
+  if (!r) return 0;
+  if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
+  refine_in(*r, *t, level, pos, keep_ctrl, out);
   return 1;
 }
 
@@ -448,6 +494,39 @@ extern "C" int sumi_osd_refine(const SumiOsdMesh *m, int level, const double *po
   try {
     begin_call();
     return refine(m, level, pos, out, err, errlen);
+  } catch (std::bad_alloc const &) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "out of memory refining to level %d", level);
+  } catch (std::exception const &e) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    sumi_osd_refined_free(out);
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}
+
+extern "C" int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t errlen) {
+  try {
+    begin_call();
+    std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(topo, err, errlen));
+    return r != nullptr;
+  } catch (std::bad_alloc const &) {
+    return fail(err, errlen, "out of memory in OpenSubdiv");
+  } catch (std::exception const &e) {
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}
+
+extern "C" int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
+                                        int keep_ctrl, SumiOsdRefined *out, char *err,
+                                        size_t errlen) {
+  std::memset(out, 0, sizeof *out);
+  try {
+    begin_call();
+    return refine_topology(topo, level, pos, keep_ctrl, out, err, errlen);
   } catch (std::bad_alloc const &) {
     sumi_osd_refined_free(out);
     return fail(err, errlen, "out of memory refining to level %d", level);

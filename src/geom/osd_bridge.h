@@ -59,7 +59,7 @@ void sumi_osd_destroy(SumiOsdMesh *m);
 typedef struct SumiOsdRefined {
   int level;
   int nverts;
-  double *ctrl;                /* 3 * nverts: the level's control points */
+  double *ctrl;                /* 3 * nverts: the level's control points (or NULL, see below) */
   double *limit;               /* 3 * nverts: those points pushed to the limit surface */
   double *normal;              /* 3 * nverts: unit limit normals (0 where undefined) */
   float *vert_sharpness;       /* nverts: vertex (corner) sharpness at this level */
@@ -82,6 +82,15 @@ typedef struct SumiOsdRefined {
 int sumi_osd_refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out,
                     char *err, size_t errlen);
 void sumi_osd_refined_free(SumiOsdRefined *r);
+
+/* The checks sumi_osd_create makes, without keeping a handle. */
+int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t errlen);
+
+/* sumi_osd_create's checks, then sumi_osd_refine, in one refiner made for
+** the call (no handle, no limit evaluator: a third of the base meshes
+** made). With keep_ctrl 0, out->ctrl is NULL. */
+int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
+                             int keep_ctrl, SumiOsdRefined *out, char *err, size_t errlen);
 
 /* 1 if base face `face` of m has a limit surface (0 for holes and for
 ** boundary faces under SUMI_OSD_BOUNDARY_NONE). */

@@ -98,7 +98,8 @@ void subdiv_topology_free(SubdivTopology *st) {
   memset(st, 0, sizeof *st);
 }
 
-int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
+/* The checks before OpenSubdiv sees the mesh: kind, level, face count. */
+static int check_size(const SceneGeometry *g, char *err, size_t errlen) {
   if (g->kind != GEOM_MESH) {
     snprintf(err, errlen, "subdivision needs a polygon mesh");
     return 0;
@@ -115,11 +116,13 @@ int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, si
              g->subdiv_level, n, SUBDIV_MAX_FACES);
     return 0;
   }
+  return 1;
+}
+
+int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen) {
+  if (!check_size(g, err, errlen)) return 0;
   SubdivTopology st;
-  int ok = subdiv_topology(g, boundary, &st, err, errlen);
-  SumiOsdMesh *osd = NULL;
-  if (ok) ok = sumi_osd_create(&st.topo, &osd, err, errlen);
-  sumi_osd_destroy(osd);
+  int ok = subdiv_topology(g, boundary, &st, err, errlen) && sumi_osd_check(&st.topo, err, errlen);
   subdiv_topology_free(&st);
   return ok;
 }
@@ -134,7 +137,7 @@ static void edge_add_face(MeshEdge *e, int t) {
 }
 
 /* Side k of triangle t gets edge e when e joins the side's two corners. */
-static int set_side(Mesh *m, int t, int k, int e) {
+static inline int set_side(Mesh *m, int t, int k, int e) {
   int a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
   MeshEdge *ed = &m->edges[e];
   if (!((ed->v[0] == a && ed->v[1] == b) || (ed->v[0] == b && ed->v[1] == a))) return 0;
@@ -252,18 +255,16 @@ static void fill_normals(Mesh *m, const SumiOsdRefined *r) {
 
 Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRefined *refined,
                      char *err, size_t errlen) {
-  if (!subdiv_check(g, boundary, err, errlen)) return NULL;
+  /* subdiv_check's checks, the OpenSubdiv ones made by the one refiner */
+  if (!check_size(g, err, errlen)) return NULL;
   SubdivTopology st;
   if (!subdiv_topology(g, boundary, &st, err, errlen)) return NULL;
-  SumiOsdMesh *osd = NULL;
   SumiOsdRefined r;
-  memset(&r, 0, sizeof r);
-  int ok = sumi_osd_create(&st.topo, &osd, err, errlen) &&
-           sumi_osd_refine(osd, g->subdiv_level, (const double *)g->verts, &r, err, errlen);
-  sumi_osd_destroy(osd);
+  int ok = sumi_osd_refine_topology(&st.topo, g->subdiv_level, (const double *)g->verts,
+                                    refined != NULL, &r, err, errlen);
   subdiv_topology_free(&st);
   if (!ok) return NULL;
-  Mesh *m = mesh_create(r.nverts, triangle_count(&r));
+  Mesh *m = mesh_alloc(r.nverts, triangle_count(&r));   /* every entry filled below */
   memcpy(m->pos, r.limit, sizeof(Vec3) * (size_t)r.nverts);
   fill_triangles(m, &r);
   if (!edges_from_level(m, &r)) edges_by_hash(m, &r);
