@@ -54,7 +54,7 @@ DEBIAN_PACKAGES := gcc g++ make pkg-config libopenimageio-dev libosd-dev libcjso
                    openscad python3-numpy
 
 .PHONY: all deps test test-unit test-slurm test-gallery update-snapshots update-golden fuzz valgrind bench bench-parse \
-        bench-eval bench-solve bench-tiles bench-bigmesh bench-csg gallery clean help example install check-cp
+        bench-eval bench-solve bench-tiles bench-bigmesh bench-orbit bench-csg gallery clean help example install check-cp
 
 all: $(BUILD)/sumi $(OIIO_LIB) $(BUILD)/stdlib
 
@@ -211,6 +211,13 @@ bench-bigmesh: PEER_PACKAGES := time python3 assimp-testmodels valgrind povray p
 bench-bigmesh: deps all
 	sh bench/bigmesh.sh $(BUILD)/sumi
 
+# An animation of a static mesh (issue 24, item 3): Wuson L4 under an
+# orbiting camera, FRAMES frames in one run; each stage at frame 0 and per
+# later frame (what the caches across frames leave to do).
+bench-orbit: PEER_PACKAGES := time python3 assimp-testmodels
+bench-orbit: deps all
+	sh bench/orbit.sh $(BUILD)/sumi
+
 # The Slurm recipe (scripts/slurm/) on a one-node cluster this starts on
 # localhost: a tile array and its assemble job, and a frame array, against
 # single-process renders (tests/slurm.sh; under a minute once installed).
@@ -265,6 +272,7 @@ help:
 	@echo "make bench-csg   difference of two 100k-triangle meshes against OpenSCAD (CPU)"
 	@echo "make bench-tiles a 7680x4320 frame whole and as 8 tile jobs (CPU, memory)"
 	@echo "make bench-bigmesh  level-4 Wuson, duck, engine, torus: per-stage times, memory; POV-Ray, Blender"
+	@echo "make bench-orbit    Wuson L4 orbit under --frames: each stage at frame 0 and per later frame"
 	@echo "make valgrind   every example rendered small under valgrind (memory errors, leaks)"
 	@echo "make check-cp   the layer solver on every real crease pattern (../shared)"
 	@echo "make gallery    render every example into docs/gallery/ and write its index.html"
