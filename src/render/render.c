@@ -682,6 +682,12 @@ static void emit_chunk(void *ctx, int k) {
       push_box(job, list, r->x0, r->y0, r->x1, r->y1, r->z[0] + zx + zy - 1e-5f, i, back, 0);
     }
   }
+  /* back to what was used: the unused tails go back to the heap for the
+  ** next stages rather than lying in it as holes (peak memory) */
+  tris->tris = xrealloc(tris->tris, ((size_t)tris->n + 1) * sizeof *tris->tris);
+  list->boxes = xrealloc(list->boxes, ((size_t)list->n + 1) * sizeof *list->boxes);
+  list->lazy = xrealloc(list->lazy, ((size_t)list->nlazy + 1) * sizeof *list->lazy);
+  tris->cap = tris->n + 1, list->cap = list->n + 1, list->lazy_cap = list->nlazy + 1;
 }
 
 /* Chunks covering count(object) items of every object; returns how many. */
