@@ -37,12 +37,15 @@
 # 2-thread runs and callgrind (sumi's 1-thread runs give the ratios).
 #
 #   sh bench/bigmesh.sh [path/to/sumi]      RUNS=5 PEER_RUNS=3 PEERS=1 SCENES="wuson duck engine torus"
+#                                           POVRAY=povray BLENDER=blender (none: leave it out)
 set -e
 SUMI=${1:-build/sumi}
 RUNS=${RUNS:-5}
 SCENES=${SCENES:-wuson duck engine torus}
 PEERS=${PEERS:-1}
 PEER_RUNS=${PEER_RUNS:-3}
+POVRAY=${POVRAY:-povray}     # POVRAY=none or BLENDER=none leaves that peer out
+BLENDER=${BLENDER:-blender}
 DIR=build/bench/bigmesh
 mkdir -p "$DIR"
 command -v python3 >/dev/null || { echo "bench-bigmesh: needs python3"; exit 1; }
@@ -55,8 +58,8 @@ pov="" blender=""
 if [ "$PEERS" != 0 ]; then
   if ! "$PY" -c 'import numpy, PIL' 2>/dev/null; then echo "bench-bigmesh: no python3 with numpy and PIL: peers skipped"
   else
-    if command -v povray >/dev/null; then pov=1; else echo "bench-bigmesh: povray not installed: POV-Ray skipped"; fi
-    if command -v blender >/dev/null; then blender=1; else echo "bench-bigmesh: blender not installed: Blender skipped"; fi
+    if command -v "$POVRAY" >/dev/null; then pov=1; else echo "bench-bigmesh: povray not installed: POV-Ray skipped"; fi
+    if command -v "$BLENDER" >/dev/null; then blender=1; else echo "bench-bigmesh: blender not installed: Blender skipped"; fi
   fi
 fi
 
@@ -118,7 +121,7 @@ peers() {
     i=1
     while [ "$i" -le "$PEER_RUNS" ]; do
       /usr/bin/time -f "%e %M %U %S" -o "$DIR/$s.pov.$i.time" \
-        povray +I"$DIR/$s.pov" +O"$DIR/$s.pov.png" +FN +W"$W" +H"$H" -D -A +WT1 -V >/dev/null 2>"$DIR/$s.pov.$i.log" \
+        "$POVRAY" +I"$DIR/$s.pov" +O"$DIR/$s.pov.png" +FN +W"$W" +H"$H" -D -A +WT1 -V >/dev/null 2>"$DIR/$s.pov.$i.log" \
         || { echo "    POV-Ray failed: $DIR/$s.pov.$i.log"; return; }
       i=$((i + 1))
     done
@@ -133,7 +136,7 @@ peers() {
     i=1
     while [ "$i" -le "$PEER_RUNS" ]; do
       /usr/bin/time -f "%e %M %U %S" -o "$DIR/$s.blender.$i.time" \
-        blender -b --factory-startup --python-exit-code 1 -t 1 -P bench/bigmesh_blender.py -- \
+        "$BLENDER" -b --factory-startup --python-exit-code 1 -t 1 -P bench/bigmesh_blender.py -- \
           "$DIR/$s.scene.txt" "$DIR/$s.stl" "$DIR/$s.blender.png" $smooth >"$DIR/$s.blender.$i.log" 2>&1 \
         || { echo "    Blender failed: $DIR/$s.blender.$i.log"; return; }
       i=$((i + 1))
