@@ -11,7 +11,7 @@
 # write), the median peak RSS, and the whole run's median wall time on 1
 # and 2 threads. CALLGRIND=1 adds, per scene, one run under callgrind on
 # one thread and each stage's instructions (inclusive cost of the stage's
-# function: subdiv_mesh, render_pass_begin, render_pass_run less
+# function: subdiv_mesh, render_pass_begin or the pass_begin it wraps, render_pass_run less
 # hand_bands, line_edges_build, line_ref_build, the rest of line_render,
 # hand_bands or else image_write_opts), which a
 # shared machine does not disturb. The scenes need assimp-testmodels
@@ -194,7 +194,7 @@ for s in $SCENES; do
       "$SUMI" render "$npr" -o "$DIR/$s.cg.png" --threads 1 --quiet >/dev/null 2>"$DIR/$s.callgrind.log"
     callgrind_annotate --inclusive=yes "$out" 2>/dev/null | python3 -c '
 import re, sys
-want = {"subdiv_mesh": "subdiv", "render_pass_begin": "setup", "render_pass_run": "pass",
+want = {"subdiv_mesh": "subdiv", "render_pass_begin": "setup", "pass_begin": "setup", "render_pass_run": "pass",
         "line_edges_build": "lines edges", "line_ref_build": "lines reference", "line_render": "lines",
         "hand_bands": "bands", "image_write_opts": "write"}
 got, total = {}, 0
