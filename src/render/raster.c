@@ -82,12 +82,11 @@ static inline int64_t snap(double v) {
   return v >= 0 ? (int64_t)(v + 0.5) : -(int64_t)(0.5 - v);
 }
 
-/* Pixel position on the grid, depth and 1 / w of v->h (w > 0). */
-static void project(RastVert *v, int width, int height) {
-  const double *clip = v->h;
+/* Pixel position on the grid, depth and 1 / w of clip (w > 0), into v. */
+static void project(RastVert *v, const double clip[4], int width, int height) {
   double inv = 1.0 / clip[3];
-  v->X = snap((clip[0] * inv + 1) * 0.5 * width * SUB);   /* NDC -> pixel, on the grid */
-  v->Y = snap((1 - clip[1] * inv) * 0.5 * height * SUB);
+  v->X = (int32_t)snap((clip[0] * inv + 1) * 0.5 * width * SUB);   /* NDC -> pixel, on the grid */
+  v->Y = (int32_t)snap((1 - clip[1] * inv) * 0.5 * height * SUB);
   v->z = (float)((clip[2] * inv + 1) * 0.5);
   v->iw = (float)inv;
 }
@@ -95,7 +94,6 @@ static void project(RastVert *v, int width, int height) {
 /* rast_vertex with the guard band's gx, gy worked out. */
 static inline void vertex_in(RastVert *v, const double clip[4], double gx, double gy, int width, int height) {
   ClipVert cv = {{clip[0], clip[1], clip[2], clip[3]}, {0, 0}};
-  for (int k = 0; k < 4; k++) v->h[k] = clip[k];
   if (!(isfinite(clip[0]) && isfinite(clip[1]) && isfinite(clip[2]) && isfinite(clip[3]))) {
     v->outcode = RAST_INVALID;   /* NaN or infinite: its triangles are dropped */
     v->X = v->Y = 0; v->z = v->iw = 0;
@@ -103,7 +101,7 @@ static inline void vertex_in(RastVert *v, const double clip[4], double gx, doubl
   }
   v->outcode = outcode(&cv, gx, gy);
   if (v->outcode) { v->X = v->Y = 0; v->z = v->iw = 0; return; }
-  project(v, width, height);
+  project(v, clip, width, height);
 }
 
 void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
@@ -112,11 +110,16 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
   vertex_in(v, clip, gx, gy, width, height);
 }
 
+void rast_clip_point(double clip[4], const double m[4][4], const float pos[3]) {
+  double x = pos[0], y = pos[1], z = pos[2];
+  for (int i = 0; i < 4; i++) clip[i] = m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
+}
+
 void rast_vertices(RastVert *out, const float (*pos)[3], int n, const double m[4][4], int width, int height) {
   double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
   for (int v = 0; v < n; v++) {
-    double x = pos[v][0], y = pos[v][1], z = pos[v][2], clip[4];
-    for (int i = 0; i < 4; i++) clip[i] = m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
+    double clip[4];
+    rast_clip_point(clip, m, pos[v]);
     vertex_in(&out[v], clip, gx, gy, width, height);
   }
 }
@@ -153,7 +156,9 @@ static inline int cover_box(const RastVert *const in[3], int width, int height, 
   box[2] = (int)(bx1 < width ? bx1 : width);
   box[3] = (int)(by1 < height ? by1 : height);
   if (box[0] >= box[2] || box[1] >= box[3]) return 0;
-  *area = (in[1]->X - in[0]->X) * (in[2]->Y - in[0]->Y) - (in[2]->X - in[0]->X) * (in[1]->Y - in[0]->Y);
+  int64_t ex1 = in[1]->X - in[0]->X, ey1 = in[1]->Y - in[0]->Y;   /* < 2^25: no overflow in 32 bits */
+  int64_t ex2 = in[2]->X - in[0]->X, ey2 = in[2]->Y - in[0]->Y;
+  *area = ex1 * ey2 - ex2 * ey1;
   return *area != 0;
 }
 
@@ -215,22 +220,21 @@ static RastTri *list_push(RastTriList *list) {
 
 /* A triangle crossing some plane: clip it as a polygon, project the new
 ** vertices, and fan it out into triangles. */
-static int emit_clipped(RastTriList *list, const RastVert *const v[3], unsigned planes,
+static int emit_clipped(RastTriList *list, const double *const clip[3], unsigned planes,
                         int32_t object, int32_t face, int width, int height) {
   static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
   ClipVert poly[MAXPOLY];
   for (int i = 0; i < 3; i++) {
-    for (int k = 0; k < 4; k++) poly[i].h[k] = v[i]->h[k];
+    for (int k = 0; k < 4; k++) poly[i].h[k] = clip[i][k];
     poly[i].b[0] = corner_bary[i][0];
     poly[i].b[1] = corner_bary[i][1];
   }
   int n = clip_polygon(poly, 3, planes, gx, gy);
   RastVert pv[MAXPOLY];
   for (int i = 0; i < n; i++) {
-    for (int k = 0; k < 4; k++) pv[i].h[k] = poly[i].h[k];
     pv[i].outcode = 0;   /* on the planes up to rounding: inside */
-    project(&pv[i], width, height);
+    project(&pv[i], poly[i].h, width, height);
   }
   int emitted = 0;
   for (int i = 1; i + 1 < n; i++) {   /* fan around vertex 0 */
@@ -245,13 +249,13 @@ static int emit_clipped(RastTriList *list, const RastVert *const v[3], unsigned 
   return emitted;
 }
 
-int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int32_t face, int width,
-              int height) {
+int rast_emit(RastTriList *list, const RastVert *const v[3], const double *const clip[3], int32_t object,
+              int32_t face, int width, int height) {
   static const double corner_bary[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   unsigned all = v[0]->outcode & v[1]->outcode & v[2]->outcode;
   unsigned any = v[0]->outcode | v[1]->outcode | v[2]->outcode;
   if (all || (any & RAST_INVALID)) return 0;   /* wholly outside one plane, or not a number */
-  if (any) return emit_clipped(list, v, any, object, face, width, height);
+  if (any) return emit_clipped(list, clip, any, object, face, width, height);
   if (!setup(list_push(list), v, corner_bary, object, face, width, height)) return 0;
   list->n++;
   return 1;

@@ -68,30 +68,46 @@ typedef struct RastTarget {
 
 /* A vertex projected for a width x height target: rast_vertex() once per
 ** mesh vertex, then rast_emit() per triangle (shared vertices are projected
-** once, and neighbours see bit-identical positions). */
+** once, and neighbours see bit-identical positions). Twenty bytes: its clip
+** coordinates are not kept, only the few triangles that need clipping read
+** them, and their callers work them out again (rast_clip_point). */
 /* RastVert.outcode bit of a vertex with a NaN or infinite coordinate. */
 #define RAST_INVALID (1u << 6)
 
 typedef struct RastVert {
-  double h[4];             /* clip coordinates x, y, z, w */
-  unsigned outcode;        /* planes (near, far, guard band) it is outside of; RAST_INVALID */
-  int64_t X, Y;            /* fixed-point pixel position (when outcode is 0) */
+  int32_t X, Y;            /* fixed-point pixel position (when outcode is 0): inside the guard
+                              band, |X|, |Y| < (RAST_MAX_DIM + 2 RAST_GUARD_PX) 2^RAST_SUBPIXEL_BITS */
   float z, iw;             /* window depth and 1 / w (when outcode is 0) */
+  uint32_t outcode;        /* planes (near, far, guard band) it is outside of; RAST_INVALID */
 } RastVert;
 
 void rast_vertex(RastVert *v, const double clip[4], int width, int height);
+/* Clip coordinates of world point pos under m (camera.h's world_to_clip,
+** as camera_to_clip does it): the arithmetic rast_vertices does, so a
+** caller working them out again gets the same bits. */
+void rast_clip_point(double clip[4], const double m[4][4], const float pos[3]);
 /* rast_vertex for n points pos (world space) taken to clip coordinates by
-** m (camera.h's world_to_clip, as camera_to_clip does it), into out. */
+** m (rast_clip_point), into out. */
 void rast_vertices(RastVert *out, const float (*pos)[3], int n, const double m[4][4], int width, int height);
 
 /* Set up triangle (v[0], v[1], v[2]) for a width x height target and
 ** append it to list, clipped against the near and far planes and the guard
-** band when it crosses them. Its samples record object and face; the
+** band when it crosses them. clip[i] are the clip coordinates v[i] was
+** projected from: read only when the triangle needs clipping (some outcode
+** is set but not one plane's in all three), so NULL will do when none of
+** the outcodes is set. Its samples record object and face; the
 ** barycentrics they record are those of this triangle (b1 for v[1], b2 for
 ** v[2]), through any clipping. Returns the number of RastTri appended (0:
 ** outside or degenerate). */
-int rast_emit(RastTriList *list, const RastVert *const v[3], int32_t object, int32_t face, int width,
-              int height);
+int rast_emit(RastTriList *list, const RastVert *const v[3], const double *const clip[3], int32_t object,
+              int32_t face, int width, int height);
+/* Does triangle v need clipping coordinates for rast_emit: some vertex is
+** outside a plane, but the triangle is not wholly outside one plane and no
+** vertex is invalid? */
+static inline int rast_needs_clip(const RastVert *const v[3]) {
+  unsigned any = v[0]->outcode | v[1]->outcode | v[2]->outcode;
+  return any && !(v[0]->outcode & v[1]->outcode & v[2]->outcode) && !(any & RAST_INVALID);
+}
 
 /* The same setup for a triangle none of whose vertices is outside a plane
 ** (outcodes 0): what rast_emit appends for it, into t. Returns 0 when it

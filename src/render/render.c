@@ -671,7 +671,11 @@ static void emit_chunk(void *ctx, int k) {
       continue;
     }
     int n0 = tris->n;
-    rast_emit(tris, tv, c->object, t, job->gw, job->gh);
+    double h[3][4];   /* clip coordinates: only a triangle to be clipped reads them */
+    const double *const hv[3] = {h[0], h[1], h[2]};
+    if (rast_needs_clip(tv))
+      for (int i = 0; i < 3; i++) rast_clip_point(h[i], job->f->camera.world_to_clip.m, o->wpos[m->tri[t][i]]);
+    rast_emit(tris, tv, hv, c->object, t, job->gw, job->gh);
     for (int i = n0; i < tris->n; i++) {   /* one, or the pieces clipping made */
       const RastTri *r = &tris->tris[i];
       /* depth is affine: its least value over the box of sample centres is

@@ -41,18 +41,30 @@ static void target_init(Target *t) {
 
 /* A vertex at pixel position (x, y) and depth z for the W x H target,
 ** through clip space with w = 1 (an orthographic projection). */
+static void pixel_clip(double clip[4], double x, double y, double z) {
+  clip[0] = 2 * x / W - 1, clip[1] = 1 - 2 * y / H, clip[2] = 2 * z - 1, clip[3] = 1;
+}
+
 static void pixel_vertex(RastVert *v, double x, double y, double z) {
-  double clip[4] = {2 * x / W - 1, 1 - 2 * y / H, 2 * z - 1, 1};
+  double clip[4];
+  pixel_clip(clip, x, y, z);
   rast_vertex(v, clip, W, H);
 }
 
-/* Draw triangle (a, b, c) of vs into t, as the pipeline does. */
-static void draw(Target *t, const RastVert *vs, int a, int b, int c, int face) {
+/* Draw triangle (a, b, c) of vs into t, as the pipeline does; clip holds
+** the vertices' clip coordinates (NULL: none of them needs clipping). */
+static void draw_clip(Target *t, const RastVert *vs, const double (*clip)[4], int a, int b, int c, int face) {
   RastTriList list = {0};
   const RastVert *tv[3] = {&vs[a], &vs[b], &vs[c]};
-  rast_emit(&list, tv, 0, face, W, H);
+  const double *const h[3] = {clip ? clip[a] : NULL, clip ? clip[b] : NULL, clip ? clip[c] : NULL};
+  CHECK(clip || !rast_needs_clip(tv));
+  rast_emit(&list, tv, h, 0, face, W, H);
   for (int i = 0; i < list.n; i++) rast_triangle(&list.tris[i], &t->rt);
   rast_list_free(&list);
+}
+
+static void draw(Target *t, const RastVert *vs, int a, int b, int c, int face) {
+  draw_clip(t, vs, NULL, a, b, c, face);
 }
 
 /* A deterministic value in [0, 1) from an integer (no global state). */
@@ -152,16 +164,17 @@ TEST(fill_rule_fan_around_sample_centre) {
 ** is covered exactly once, by the triangle on its side of the diagonal. */
 TEST(fill_rule_through_guard_band_clipping) {
   RastVert vs[4];
-  double big = 1e6;
-  pixel_vertex(&vs[0], -big, -big * 0.7, 0.5);
-  pixel_vertex(&vs[1], big, -big, 0.5);
-  pixel_vertex(&vs[2], big * 0.9, big, 0.5);
-  pixel_vertex(&vs[3], -big, big, 0.5);
+  double big = 1e6, clip[4][4];
+  pixel_clip(clip[0], -big, -big * 0.7, 0.5);
+  pixel_clip(clip[1], big, -big, 0.5);
+  pixel_clip(clip[2], big * 0.9, big, 0.5);
+  pixel_clip(clip[3], -big, big, 0.5);
+  for (int i = 0; i < 4; i++) rast_vertex(&vs[i], clip[i], W, H);
   CHECK(vs[0].outcode && vs[2].outcode);
   Target *t = xmalloc(sizeof *t);
   target_init(t);
-  draw(t, vs, 0, 1, 2, 0);
-  draw(t, vs, 0, 2, 3, 1);
+  draw_clip(t, vs, (const double(*)[4])clip, 0, 1, 2, 0);
+  draw_clip(t, vs, (const double(*)[4])clip, 0, 2, 3, 1);
   int once = 0, side_ok = 0;
   for (int y = 0; y < H; y++)
     for (int x = 0; x < W; x++) {
@@ -219,14 +232,14 @@ static void check_perspective_quad(double near_cut) {
   Vec3 q[4] = {v3(-3, yn, 0), v3(3, yn, 0), v3(-3, 20, 0), v3(3, 20, 0)};
   int tris[2][3] = {{0, 1, 3}, {0, 3, 2}};
   RastVert vs[4];
+  double clip[4][4];
   for (int i = 0; i < 4; i++) {
-    double clip[4];
-    camera_to_clip(&cam, q[i], clip);
-    rast_vertex(&vs[i], clip, W, H);
+    camera_to_clip(&cam, q[i], clip[i]);
+    rast_vertex(&vs[i], clip[i], W, H);
   }
   Target *t = xmalloc(sizeof *t);
   target_init(t);
-  for (int k = 0; k < 2; k++) draw(t, vs, tris[k][0], tris[k][1], tris[k][2], k);
+  for (int k = 0; k < 2; k++) draw_clip(t, vs, (const double(*)[4])clip, tris[k][0], tris[k][1], tris[k][2], k);
   int covered = 0, off = 0, affine_off = 0;
   for (int y = 0; y < H; y++)
     for (int x = 0; x < W; x++) {
@@ -593,20 +606,22 @@ TEST(skipping_hidden_back_faces_keeps_the_depth) {
   for (int i = 0; i < f.nobjects; i++) {
     const RenderObject *ro = &f.objects[i];
     RastVert *rv = malloc(((size_t)ro->mesh->nverts + 1) * sizeof *rv);
+    double(*clip)[4] = malloc(((size_t)ro->mesh->nverts + 1) * sizeof *clip);
     for (int v = 0; v < ro->mesh->nverts; v++) {
-      double clip[4];
-      camera_to_clip(&f.camera, v3(ro->wpos[v][0], ro->wpos[v][1], ro->wpos[v][2]), clip);
-      rast_vertex(&rv[v], clip, w, h);
+      camera_to_clip(&f.camera, v3(ro->wpos[v][0], ro->wpos[v][1], ro->wpos[v][2]), clip[v]);
+      rast_vertex(&rv[v], clip[v], w, h);
     }
     for (int t = 0; t < ro->mesh->ntris; t++) {
       RastTriList list = {0};
       const int *c = ro->mesh->tri[t];
       const RastVert *tv[3] = {&rv[c[0]], &rv[c[1]], &rv[c[2]]};
-      rast_emit(&list, tv, i, t, w, h);
+      const double *const hv[3] = {clip[c[0]], clip[c[1]], clip[c[2]]};
+      rast_emit(&list, tv, hv, i, t, w, h);
       for (int k = 0; k < list.n; k++) rast_triangle(&list.tris[k], &rt);
       rast_list_free(&list);
     }
     free(rv);
+    free(clip);
   }
   Image *img;
   GBuffer *gb;
