@@ -107,13 +107,24 @@ static inline int ink_label(const InkStyle *k, float v) { return k->ntones - 1 -
 #define INK_OFF 255         /* a level: not on the canvas (another object covers it) */
 #define INK_NO_STYLE 0xffff /* a style: bare paper */
 
+/* One pixel's diffusion state, together: a step at a pixel reads its own
+** and its neighbours', and the planes are far bigger than the caches (one
+** line per pixel here instead of one per plane). */
+typedef struct InkCell {
+  float ink, water;  /* as the planes' */
+  uint32_t at;       /* a receiver in this pass: its offer's index + 1; else 0 */
+  uint16_t ready;    /* the pass after which it can give */
+  uint8_t level;     /* as the plane's */
+  uint8_t noise;     /* the resistance noise where computed, 1..255 (0: not yet) */
+} InkCell;
+
 /* The ink canvas: per pixel, row-major. */
 typedef struct InkCanvas {
   int width, height;
   int ox, oy;               /* the frame pixel of the canvas's first (a tile's window: the
                                paper, the noise and each pixel's random value follow it) */
   float *ink;               /* 0..255 */
-  float *water;
+  float *water;             /* NULL with cells of its own: the cells hold it */
   uint8_t *level;           /* label, or INK_OFF */
   uint16_t *style;          /* index into styles (whose ink it holds), or INK_NO_STYLE */
   const InkStyle *styles;
@@ -123,9 +134,10 @@ typedef struct InkCanvas {
   const float *absorb;
   int absorb_w, absorb_h;
   uint32_t seed;
-  uint8_t *noise;           /* the resistance noise where computed, 1..255 (0: not yet); ink_diffuse's */
-  const struct NoiseFbm *fbm;   /* during ink_diffuse: that noise's lattice */
-  uint16_t *ready;          /* during ink_diffuse: the pass after which a pixel can give */
+  InkCell *cell;            /* each pixel's diffusion state: the canvas's own (ink_canvas_alloc_cells:
+                               whoever writes a pixel's ink, level or water writes it there too);
+                               else made from the planes during ink_diffuse */
+  const struct NoiseFbm *fbm;   /* during ink_diffuse: the resistance noise's lattice */
   size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
   int *absorb_col;          /* and per column its texel column (no divisions per lookup) */
   const InkStyle *one;      /* during ink_diffuse: the only style, when there is one and it
@@ -142,9 +154,14 @@ typedef struct InkCanvas {
 void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
 /* The same, the planes left unset: for a caller that writes every pixel. */
 void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
+/* The same with cells of its own and no water plane, for a caller that
+** writes every pixel's cell (at, ready and noise 0) with its planes: the
+** diffusion then copies nothing in, and runs once on the canvas. */
+void ink_canvas_alloc_cells(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
 void ink_canvas_free(InkCanvas *c);
 
-/* Give every ink pixel (a style) its style's water, bare paper none. */
+/* Give every ink pixel (a style) its style's water, bare paper none (a
+** canvas with planes only). */
 void ink_canvas_wet(InkCanvas *c);
 
 /* What ink_diffuse did. */

@@ -35,6 +35,13 @@ void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int ns
   c->nstyles = nstyles;
 }
 
+void ink_canvas_alloc_cells(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+  ink_canvas_alloc(c, w, h, styles, nstyles);
+  free(c->water);
+  c->water = NULL;
+  c->cell = xmalloc_huge(((size_t)w * h + 1) * sizeof *c->cell);
+}
+
 void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
   ink_canvas_alloc(c, w, h, styles, nstyles);
   size_t n = (size_t)w * h;
@@ -45,11 +52,11 @@ void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nst
 }
 
 void ink_canvas_free(InkCanvas *c) {
-  free(c->noise);
   free(c->ink);
   free(c->water);
   free(c->level);
   free(c->style);
+  free(c->cell);
   memset(c, 0, sizeof *c);
 }
 
@@ -112,10 +119,10 @@ static inline void pixel_xy(uint32_t p, uint32_t w, double inv_w, int *x, int *y
 }
 
 static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
-  size_t p = (size_t)y * c->width + x;
-  if (!c->noise[p])   /* not yet: only pixels the diffusion reaches need it */
-    c->noise[p] = (uint8_t)(1 + resist_noise(c, x, y) * 254 + 0.5f);   /* 1..255: 0 says not yet */
-  float n = (float)(c->noise[p] - 1) * (1.0f / 254);
+  InkCell *e = &c->cell[(size_t)y * c->width + x];
+  if (!e->noise)   /* not yet: only pixels the diffusion reaches need it */
+    e->noise = (uint8_t)(1 + resist_noise(c, x, y) * 254 + 0.5f);   /* 1..255: 0 says not yet */
+  float n = (float)(e->noise - 1) * (1.0f / 254);
   float r = 1 + rho * (2 * n - 1);
   if (c->absorb) r /= absorb_at(c, x, y);
   return r > 0.1f ? r : 0.1f;
@@ -151,7 +158,7 @@ static inline int diffuses(const InkCanvas *c, int s) {
 ** (With one style that does, its style need not be looked up: the
 ** planes are big and each one read is a cache miss at a front.) */
 static inline int takes_part(const InkCanvas *c, size_t p) {
-  return c->level[p] != INK_OFF && (c->one || diffuses(c, c->style[p]));
+  return c->cell[p].level != INK_OFF && (c->one || diffuses(c, c->style[p]));
 }
 
 /* The style of ink pixel q. */
@@ -161,43 +168,46 @@ static inline const InkStyle *style_of(const InkCanvas *c, size_t q) {
 
 /* May giver q give to receiver p in pass `pass` under the three rules? */
 static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
-  int lq = c->level[q], lp = c->level[p];
+  const InkCell *g = &c->cell[q], *r = &c->cell[p];
+  int lq = g->level, lp = r->level;
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
-  if (c->ready[q] >= pass) return 0;                         /* its water has not come through yet */
+  if (g->ready >= pass) return 0;                            /* its water has not come through yet */
   const InkStyle *k = style_of(c, q);
   if (k->stage < INK_STAGE_DIFFUSED) return 0;
-  if (!(c->water[q] > k->water_threshold)) return 0;         /* rule 1: enough water */
-  return c->ink[q] - c->ink[p] > k->ink_threshold;           /* rule 3: a large enough difference */
+  if (!(g->water > k->water_threshold)) return 0;            /* rule 1: enough water */
+  return g->ink - r->ink > k->ink_threshold;                 /* rule 3: a large enough difference */
 }
 
 /* Does giver a come before giver b: darker (level, then ink, then water),
 ** and at a tie the one earlier in the image (so the order givers are
 ** looked at in does not matter)? */
 static inline int darker(const InkCanvas *c, size_t a, size_t b) {
-  if (c->level[a] != c->level[b]) return c->level[a] > c->level[b];
-  if (c->ink[a] != c->ink[b]) return c->ink[a] > c->ink[b];
-  if (c->water[a] != c->water[b]) return c->water[a] > c->water[b];
+  const InkCell *x = &c->cell[a], *y = &c->cell[b];
+  if (x->level != y->level) return x->level > y->level;
+  if (x->ink != y->ink) return x->ink > y->ink;
+  if (x->water != y->water) return x->water > y->water;
   return a < b;
 }
 
 /* What giver q gives pixel p (x, y): a little less ink than q has, its
 ** water less a step's cost, through the paper's resistance there. */
 static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Offer *o) {
-  int lp = c->level[p];
+  const InkCell *g = &c->cell[q], *e = &c->cell[p];
+  int lp = e->level;
   const InkStyle *k = style_of(c, q);
   float r = ink_resistance(c, x, y, k->roughness);
   float cost = r * (lp == 0 ? k->paper_cost : 1);
   float loss = k->ink_loss * cost;
   loss = loss < 0.95f ? loss : 0.95f;
-  float water = c->water[q] - cost;
+  float water = g->water - cost;
   o->pixel = (uint32_t)p;
   o->from = (uint32_t)q;
   o->style = c->one ? 0 : c->style[q];
-  o->level = c->level[q];
+  o->level = g->level;
   o->delay = (uint8_t)ink_delay(c, x, y, k->roughness);
-  o->ink = c->ink[p] + (1 - loss) * (c->ink[q] - c->ink[p]);   /* its own plus (1 - loss) of the difference */
-  o->water = water > c->water[p] ? water : c->water[p];         /* nobody loses water */
+  o->ink = e->ink + (1 - loss) * (g->ink - e->ink);   /* its own plus (1 - loss) of the difference */
+  o->water = water > e->water ? water : e->water;     /* nobody loses water */
 }
 
 /* The giver pixel (x, y) takes from in pass `pass`, into *giver: its
@@ -245,24 +255,24 @@ typedef struct Ready { Updates at[INK_MAX_DELAY + 1]; } Ready;
 static inline void fetch_ahead(const InkCanvas *c, const Offer *v, int i, int n) {
   if (i + INK_AHEAD >= n) return;
   size_t p = v[i + INK_AHEAD].pixel, w = (size_t)c->width;
-  __builtin_prefetch(&c->level[p]);
-  __builtin_prefetch(&c->ready[p]);
-  __builtin_prefetch(&c->ink[p]);
-  __builtin_prefetch(&c->water[p]);
-  if (p >= w) __builtin_prefetch(&c->level[p - w]);
-  if (p + w < w * (size_t)c->height) __builtin_prefetch(&c->level[p + w]);
+  __builtin_prefetch(&c->cell[p]);
+  if (p >= w) __builtin_prefetch(&c->cell[p - w]);
+  if (p + w < w * (size_t)c->height) __builtin_prefetch(&c->cell[p + w]);
 }
 
 static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
   for (int i = 0; i < u->n; i++) {
     const Offer *o = &u->v[i];
     fetch_ahead(c, u->v, i, u->n);
-    c->level[o->pixel] = o->level;
+    InkCell *e = &c->cell[o->pixel];
+    c->level[o->pixel] = e->level = o->level;
     c->style[o->pixel] = o->style;
-    c->ink[o->pixel] = o->ink;
-    c->water[o->pixel] = o->water;
+    c->ink[o->pixel] = e->ink = o->ink;
+    e->water = o->water;
+    if (c->water) c->water[o->pixel] = o->water;   /* the planes the canvas keeps */
     int ready = pass + o->delay - 1;
-    c->ready[o->pixel] = (uint16_t)ready;
+    e->ready = (uint16_t)ready;
+    e->at = 0;   /* no longer this pass's receiver */
     updates_add(&rd->at[ready % (INK_MAX_DELAY + 1)], o);
   }
 }
@@ -300,68 +310,17 @@ static void first_pass(const InkCanvas *c, Updates *u) {
 
 /* Receiver p (x, y) with the offer from giver q: the
 ** first offer it gets this pass, or a darker giver's instead of the one it
-** has. The pass's receivers are found by a small hash table from pixel to
-** offer index in u (a pass touches a thin band along the fronts, so no
-** plane the size of the image is needed). */
-typedef struct Receivers {
-  uint32_t *key, *at, mask;
-  uint32_t *used;            /* the slots holding keys, to empty them for the next pass */
-  int nused, capused;
-} Receivers;
-
-#define NO_PIXEL 0xffffffffu
-
-/* The slot of pixel p: its own, or the empty one where it would go. */
-static uint32_t receivers_slot(const Receivers *t, uint32_t p) {
-  uint32_t h = (p * 0x9e3779b1u) & t->mask;
-  while (t->key[h] != NO_PIXEL && t->key[h] != p) h = (h + 1) & t->mask;
-  return h;
-}
-
-/* A table with room for about n receivers: the one there, emptied, or a
-** bigger one. */
-static void receivers_reset(Receivers *t, size_t n) {
-  size_t cap = 64;
-  while (cap < 2 * n + 2) cap *= 2;
-  if (t->key && cap <= (size_t)t->mask + 1) {   /* big enough: empty only the slots in use */
-    for (int i = 0; i < t->nused; i++) t->key[t->used[i]] = NO_PIXEL;
-    t->nused = 0;
-    return;
-  }
-  free(t->key);
-  free(t->at);
-  t->key = xmalloc(cap * sizeof *t->key);
-  t->at = xmalloc(cap * sizeof *t->at);
-  t->mask = (uint32_t)(cap - 1);
-  t->nused = 0;
-  memset(t->key, 0xff, cap * sizeof *t->key);   /* NO_PIXEL */
-}
-
-/* Put pixel p with offer index at into slot h. */
-static void receivers_put(Receivers *t, uint32_t h, uint32_t p, uint32_t at) {
-  t->key[h] = p;
-  t->at[h] = at;
-  if (t->nused == t->capused) t->used = xgrow(t->used, &t->capused, t->nused + 1, sizeof *t->used);
-  t->used[t->nused++] = h;
-}
-
+** has (its cell holds the offer's index). */
 /* The offer itself is worked out once the pass's givers are known
 ** (offers_of), from the state before the pass, as it would be now. */
-static void take(const InkCanvas *c, Receivers *t, size_t q, size_t p, Updates *u) {
-  uint32_t h = receivers_slot(t, (uint32_t)p);
-  if (t->key[h] == p) {
-    Offer *o = &u->v[t->at[h]];
+static void take(const InkCanvas *c, size_t q, size_t p, Updates *u) {
+  InkCell *e = &c->cell[p];
+  if (e->at) {
+    Offer *o = &u->v[e->at - 1];
     if (darker(c, q, o->from)) o->from = (uint32_t)q;
     return;
   }
-  if ((size_t)u->n * 2 + 2 > (size_t)t->mask) {   /* fuller than half: twice the size, the offers again */
-    free(t->key);
-    t->key = NULL;
-    receivers_reset(t, 2 * (size_t)u->n + 2);
-    for (int i = 0; i < u->n; i++) receivers_put(t, receivers_slot(t, u->v[i].pixel), u->v[i].pixel, (uint32_t)i);
-    h = receivers_slot(t, (uint32_t)p);
-  }
-  receivers_put(t, h, (uint32_t)p, (uint32_t)u->n);
+  e->at = (uint32_t)u->n + 1;
   Offer o;
   o.pixel = (uint32_t)p;
   o.from = (uint32_t)q;
@@ -376,15 +335,14 @@ static void offers_of(const InkCanvas *c, Updates *u) {
     Offer *o = &u->v[i];
     int x, y;
     fetch_ahead(c, u->v, i, u->n);
-    if (i + INK_AHEAD < u->n) __builtin_prefetch(&c->noise[u->v[i + INK_AHEAD].pixel]);
     pixel_xy(o->pixel, w, inv_w, &x, &y);
     offer_from(c, o->from, o->pixel, x, y, o);
   }
 }
 
 /* Giver q offers to its neighbour p when the rules let it. */
-static inline void offer_to(const InkCanvas *c, Receivers *t, size_t q, size_t p, int pass, Updates *u) {
-  if (takes_part(c, p) && may_give(c, q, p, pass)) take(c, t, q, p, u);
+static inline void offer_to(const InkCanvas *c, size_t q, size_t p, int pass, Updates *u) {
+  if (takes_part(c, p) && may_give(c, q, p, pass)) take(c, q, p, u);
 }
 
 /* A later pass. A pixel's best offer can change only when it or a
@@ -392,31 +350,47 @@ static inline void offer_to(const InkCanvas *c, Receivers *t, size_t q, size_t p
 ** look at all their neighbours again, and the pixels that can give from
 ** this pass on (now) offer to theirs; a neighbour that could give before
 ** made its offers then and, the receiver unchanged, a refusal stands. */
-static void next_pass(const InkCanvas *c, const Updates *last, const Updates *now, Receivers *t, int pass,
-                      Updates *u) {
+static void next_pass(const InkCanvas *c, const Updates *last, const Updates *now, int pass, Updates *u) {
   int w = c->width, h = c->height;
   double inv_w = 1.0 / w;
-  receivers_reset(t, (size_t)last->n + 2 * (size_t)now->n);
   for (int i = 0; i < last->n; i++) {
     uint32_t p = last->v[i].pixel;
     fetch_ahead(c, last->v, i, last->n);
     int x, y;
     pixel_xy(p, (uint32_t)w, inv_w, &x, &y);
     size_t q;
-    if (t->key[receivers_slot(t, p)] != p && best_giver(c, x, y, pass, &q)) take(c, t, q, p, u);
+    if (!c->cell[p].at && best_giver(c, x, y, pass, &q)) take(c, q, p, u);
   }
   for (int i = 0; i < now->n; i++) {
     uint32_t q = now->v[i].pixel;
     fetch_ahead(c, now->v, i, now->n);
-    if (c->ready[q] != pass - 1) continue;   /* it took a darker offer since: listed again */
+    if (c->cell[q].ready != pass - 1) continue;   /* it took a darker offer since: listed again */
     int x0, y0;
     pixel_xy(q, (uint32_t)w, inv_w, &x0, &y0);
-    if (x0 > 0) offer_to(c, t, q, q - 1, pass, u);   /* left, right, up, down */
-    if (x0 + 1 < w) offer_to(c, t, q, q + 1, pass, u);
-    if (y0 > 0) offer_to(c, t, q, q - (size_t)w, pass, u);
-    if (y0 + 1 < h) offer_to(c, t, q, q + (size_t)w, pass, u);
+    if (x0 > 0) offer_to(c, q, q - 1, pass, u);   /* left, right, up, down */
+    if (x0 + 1 < w) offer_to(c, q, q + 1, pass, u);
+    if (y0 > 0) offer_to(c, q, q - (size_t)w, pass, u);
+    if (y0 + 1 < h) offer_to(c, q, q + (size_t)w, pass, u);
   }
   offers_of(c, u);
+}
+
+/* The cells from the planes, when the canvas has none of its own: no
+** noise yet, and the first ink can give in pass 1. Returns whether it
+** made them (cells_free frees them then). */
+static int cells_init(InkCanvas *c) {
+  if (c->cell) return 0;
+  size_t n = (size_t)c->width * c->height;
+  InkCell *e = c->cell = xmalloc_huge((n + 1) * sizeof *c->cell);
+  for (size_t p = 0; p < n; p++)
+    e[p] = (InkCell){c->ink[p], c->water[p], 0, 0, c->level[p], 0};
+  return 1;
+}
+
+static void cells_free(InkCanvas *c, int made) {
+  if (!made) return;
+  free(c->cell);
+  c->cell = NULL;
 }
 
 /* The most passes any style of the canvas allows. */
@@ -442,14 +416,12 @@ static int pass_bound(const InkCanvas *c, int max_passes) {
 
 void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   int passes = pass_bound(c, max_passes);
-  size_t n = (size_t)c->width * c->height;
   NoiseFbm fbm;
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
-  c->ready = xcalloc(n + 1, sizeof *c->ready);
+  int made = cells_init(c);
   Updates u = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -468,8 +440,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   }
   free(u.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
-  free(c->ready);
-  c->ready = NULL;
+  cells_free(c, made);
   noise_fbm_free(&fbm);
   c->fbm = NULL;
   c->one = NULL;
@@ -481,15 +452,12 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   int passes = pass_bound(c, max_passes);
   InkDiffuseStats s = {0, 0};
   if (passes <= 0) { if (st) *st = s; return; }
-  size_t n = (size_t)c->width * c->height;
   NoiseFbm fbm;
   noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  if (!c->noise) c->noise = xcalloc(n + 1, sizeof *c->noise);   /* fresh zero pages: only those the fronts reach are touched */
-  c->ready = xcalloc(n + 1, sizeof *c->ready);   /* the first ink can give in pass 1 */
-  Receivers recv = {NULL, NULL, 0, NULL, 0, 0};
+  int made = cells_init(c);
   Updates u = {0}, last = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -497,7 +465,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
     u.n = 0;
     Updates *now = &rd.at[(pass - 1) % (INK_MAX_DELAY + 1)];
     if (pass == 1) first_pass(c, &u);
-    else next_pass(c, &last, now, &recv, pass, &u);
+    else next_pass(c, &last, now, pass, &u);
     now->n = 0;
     apply(c, &u, pass, &rd);
     s.transfers += u.n;
@@ -508,11 +476,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   free(u.v);
   free(last.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
-  free(recv.key);
-  free(recv.at);
-  free(recv.used);
-  free(c->ready);
-  c->ready = NULL;
+  cells_free(c, made);
   noise_fbm_free(&fbm);
   c->fbm = NULL;
   c->one = NULL;
