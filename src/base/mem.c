@@ -83,6 +83,7 @@ void mem_populate(void *p, size_t n) {
 }
 
 void mem_heap_setup(int frames) {
+  mallopt(M_ARENA_MAX, 1);
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
 #ifdef MADV_HUGEPAGE
@@ -96,6 +97,10 @@ void mem_heap_setup(int frames) {
 #else
   (void)frames;
 #endif
+}
+
+void mem_heap_release(void) {
+  malloc_trim(0);
 }
 
 void *xmalloc_huge(size_t n) {

@@ -40,8 +40,15 @@ void *xcalloc_huge(size_t n);
 ** closely. Call once before any big allocation, and (sumi render does,
 ** once it knows a frame is big) again with frames set. Hints only: under
 ** another allocator (sanitizers, valgrind) or without huge pages the
-** pages stay as they are. */
+** pages stay as they are. All threads share the one heap (M_ARENA_MAX 1):
+** a worker's own arena would keep what the worker freed away from the
+** stages after it, which then grow the main heap instead. */
 void mem_heap_setup(int frames);
+/* Give the heap's free pages back to the system (malloc_trim): after a
+** stage whose peak left far more free memory in the heap than the next
+** stages will use, in pieces too small or scattered for their big
+** buffers, which would otherwise fault in fresh pages on top of it. */
+void mem_heap_release(void);
 
 /* Grow *items (of elem bytes each) so it holds at least need; *cap tracks it. */
 void *xgrow(void *items, int *cap, int need, size_t elem);

@@ -63,6 +63,15 @@ static int shading_jumps(const RenderObject *o, int t, int k, int g) {
   return 0;
 }
 
+/* A projected vertex as the walk reads it: sample-grid x, y and window
+** depth, x NaN when it is outside the planes the rasterizer clips against
+** (exact: the grid position is an integer under 2^24 over a power of 2). */
+static inline void aa_vertex(const RastVert *r, float p[3]) {
+  p[0] = r->outcode ? NAN : (float)r->X / (1 << RAST_SUBPIXEL_BITS);
+  p[1] = (float)r->Y / (1 << RAST_SUBPIXEL_BITS);
+  p[2] = r->z;
+}
+
 /* Samples a walk may reach: the window's, its apron, and a margin of two
 ** (a walk ends a step from a sample centre). */
 typedef struct WalkBox {
@@ -128,11 +137,8 @@ static void init_vertices(void *ctx, int k) {
   int v1 = (k + 1) * AA_CHUNK < m->nverts ? (k + 1) * AA_CHUNK : m->nverts;
   unsigned any = 0;
   for (int v = k * AA_CHUNK; v < v1; v++) {
-    const RastVert *r = &in->rv[v];
-    float *sv = in->a->sv[v];
-    sv[0] = r->outcode ? NAN : (float)r->X / (1 << RAST_SUBPIXEL_BITS);
-    sv[1] = (float)r->Y / (1 << RAST_SUBPIXEL_BITS);
-    sv[2] = r->z;
+    float sv[3];
+    aa_vertex(&in->rv[v], sv);
     in->code[v] = (unsigned char)away_code(sv, in->box);
     any |= in->code[v];
   }
@@ -167,7 +173,7 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, 
   const Mesh *m = o->mesh;
   a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
-  a->sv = xmalloc(((size_t)m->nverts + 1) * sizeof *a->sv);
+  a->rv = rv;
   a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
   int nvc = (m->nverts + AA_CHUNK - 1) / AA_CHUNK, ntc = (m->ntris + AA_CHUNK - 1) / AA_CHUNK;
   AaInit in = {a, o, rv, box, xmalloc((size_t)m->nverts + 1), xcalloc((size_t)nvc + 1, 1), 0, NULL, 0};
@@ -193,7 +199,6 @@ void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, in
 
 void aa_frame_free(AaFrame *af) {
   for (int i = 0; i < af->nobjects; i++) {
-    free(af->objects[i].sv);
     free(af->objects[i].adj);
   }
   free(af->objects);
@@ -225,7 +230,8 @@ static Walk walk(const AaObject *o, int tri, float cx, float cy, int axis, float
   for (int step = 0; step < AA_MAX_STEPS; step++) {
     if (tri == goal) { w.kind = WALK_SAME; return w; }
     const int *t = o->tri[tri];
-    const float *v[3] = {o->sv[t[0]], o->sv[t[1]], o->sv[t[2]]};
+    float v[3][3];
+    for (int k = 0; k < 3; k++) aa_vertex(&o->rv[t[k]], v[k]);
     if (isnan(v[0][0]) || isnan(v[1][0]) || isnan(v[2][0])) return w;
     float area = (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
     if (area == 0) return w;
@@ -263,7 +269,8 @@ static Walk walk(const AaObject *o, int tri, float cx, float cy, int axis, float
 ** sample grid; NaN when it has none. */
 static float depth_at(const AaObject *o, int tri, float x, float y) {
   const int *t = o->tri[tri];
-  const float *a = o->sv[t[0]], *b = o->sv[t[1]], *c = o->sv[t[2]];
+  float a[3], b[3], c[3];
+  aa_vertex(&o->rv[t[0]], a), aa_vertex(&o->rv[t[1]], b), aa_vertex(&o->rv[t[2]], c);
   float e1x = b[0] - a[0], e1y = b[1] - a[1], e2x = c[0] - a[0], e2y = c[1] - a[1];
   float det = e1x * e2y - e2x * e1y;
   if (det == 0 || isnan(a[0]) || isnan(b[0]) || isnan(c[0])) return NAN;

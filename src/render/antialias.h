@@ -40,8 +40,7 @@
 /* What the walk needs of one object. */
 typedef struct AaObject {
   const int (*tri)[3];
-  float (*sv)[3];          /* per vertex: sample-grid x, y and window depth (x NaN when the
-                              vertex is outside the planes the rasterizer clips against) */
+  const RastVert *rv;      /* per vertex, as the rasterizer projected it (aa_vertex) */
   int32_t (*adj)[3];       /* per triangle, edge k (corners k, k + 1): the triangle across
                               it, or -1 where the surface ends or its shading jumps */
   int clear;               /* its samples are transparent (shade ink: the canvas paints it

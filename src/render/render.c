@@ -370,8 +370,13 @@ static int prepare_objects(const Scene *s, RenderFrame *f, int nthreads, int fit
     o->src = so;
     o->object_to_world = so->transform;
     o->style = &f->styles[so->style >= 0 && so->style < s->nstyles ? so->style : s->nstyles];
-    if (is_subdiv(so->geometry)) ok &= subdivide_object(o);   /* in order, on this thread */
-    else todo[ntodo++] = i;
+    if (is_subdiv(so->geometry)) {   /* in order, on this thread */
+      long hits = subdiv_cache_hits();
+      ok &= subdivide_object(o);
+      f->refined |= subdiv_cache_hits() == hits;
+    } else {
+      todo[ntodo++] = i;
+    }
   }
   TessJob job = {f, todo, fit};
   tasks_run(ntodo, nthreads, tess_task, &job);
@@ -1532,6 +1537,12 @@ int render_stages(const Scene *s, const RenderOptions *o, RenderFrame *f, int ca
   RenderOptions ro = *o;
   ro.tiles = cv ? canvas_sink(cv) : NULL;
   if (ok) render_frame(f, &ro, rows, shaded, gbuf_out || s->norigami > 0 || (canvas && !cv) ? &gbuf : NULL);
+  /* A refinement's peak (OpenSubdiv's tables) left the heap mostly free
+  ** but cut up, and the tile pass's lists are freed now: the line stages'
+  ** big buffers fit in none of the pieces and would come on top (Wuson L4:
+  ** +50 MB of peak RSS). A frame taking its meshes from the cache keeps
+  ** its heap for the next frame. */
+  if (f->refined) mem_heap_release();
   if (gbuf_out) *gbuf_out = gbuf;
   if (ok && s->norigami > 0) {
     double t1 = stats_now();

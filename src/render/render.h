@@ -216,6 +216,8 @@ typedef struct RenderFrame {
   RenderStyle *styles;         /* Scene.styles, then the default style */
   SceneStyle default_style;
   long long ntriangles;
+  int refined;                 /* some subdivision was refined for this frame, not taken
+                                  from the cache (subdiv.h) */
   struct ScreenTexFrame *screentex;   /* the noise and pattern layers (screentex.h) */
   const Scene *scene;          /* what it was prepared from (the line stage reads its
                                   origami sheets, which hide lines too) */
