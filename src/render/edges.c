@@ -15,19 +15,56 @@
 
 /* ---- classification ---------------------------------------------------- */
 
-/* What classifying one object's edges needs besides the edge: its
-** triangles' source faces, world positions and unit face normals (and
-** which normals are zero, when known), the kinds wanted, the crease test
-** as n0 . n1 <= crease_cos, and the view vector: forward (ortho) or from
-** eye to the edge's v[0]. */
+/* A triangle's plane in world space: its unit normal and d = n . p0, p0
+** its first corner; all NaN for a degenerate face (no normal), so that
+** every test of it below fails (no crease, no silhouette, not a front).
+** Which side of it the viewer is on, one dot product a frame, says whether
+** the face is turned toward the viewer; an edge is a silhouette where its
+** two faces disagree. */
+typedef struct FacePlane { double x, y, z, d; } FacePlane;
+
+static inline FacePlane face_plane(const Vec3 *world, const int c[3]) {
+  const Vec3 *a = &world[c[0]], *b = &world[c[1]], *e = &world[c[2]];
+  /* v3_norm(v3_cross(b - a, e - a)), written out */
+  double ux = b->x - a->x, uy = b->y - a->y, uz = b->z - a->z;
+  double vx = e->x - a->x, vy = e->y - a->y, vz = e->z - a->z;
+  double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+  double l = sqrt(nx * nx + ny * ny + nz * nz);
+  if (!(l > 0)) return (FacePlane){NAN, NAN, NAN, NAN};
+  double il = 1.0 / l;
+  nx *= il;
+  ny *= il;
+  nz *= il;
+  return (FacePlane){nx, ny, nz, nx * a->x + ny * a->y + nz * a->z};
+}
+
+/* The viewer's side of plane p: > 0 in front of it (the face is turned
+** toward the viewer), < 0 behind, 0 edge-on. A perspective viewer is at
+** eye; an orthographic one looks along forward. */
+static inline double plane_side(FacePlane p, int ortho, Vec3 forward, Vec3 eye) {
+  if (ortho) return -(p.x * forward.x + p.y * forward.y + p.z * forward.z);
+  return p.x * eye.x + p.y * eye.y + p.z * eye.z - p.d;
+}
+
+/* Which side of its face's plane the viewer is on, as bits: SIDE_FRONT
+** where plane_side >= 0, SIDE_BACK where <= 0 (both edge-on). An edge is
+** a silhouette where its faces' bits together are both: one face looks at
+** the viewer and the other away, or either is edge-on. */
+#define SIDE_FRONT 1u
+#define SIDE_BACK 2u
+
+static inline unsigned side_bits(double s) {
+  return (unsigned)(s >= 0) | (unsigned)(s <= 0) << 1;
+}
+
+/* What the view-independent half of classifying an object's edges needs
+** besides the edge: its triangles' source faces and planes, the kinds
+** wanted, and the crease test as n0 . n1 <= crease_cos. */
 typedef struct EdgeTest {
   const int *tri_face;
-  const Vec3 *world, *fn;
-  const unsigned char *zero;   /* per triangle: fn . fn == 0 (a degenerate face), or NULL */
+  const FacePlane *plane;
   unsigned want;
   double crease_cos;
-  int ortho;
-  Vec3 forward, eye;
 } EdgeTest;
 
 /* The crease test's bound on n0 . n1 for crease(angle): faces meeting at
@@ -38,44 +75,27 @@ static double crease_cos(double angle) {
   return cos((angle > LINE_COPLANAR_DEG ? angle : LINE_COPLANAR_DEG) * M_PI / 180.0);
 }
 
-/* Kinds of edge me (inlined in each loop over the edges). */
-static inline __attribute__((always_inline)) unsigned edge_kind_at(const MeshEdge *me,
-                                                                   const EdgeTest *et) {
-  const int *tri_face = et->tri_face;
-  const Vec3 *fn = et->fn;
-  unsigned want = et->want;
-  unsigned kind = 0;
-  int f0 = me->f[0], f1 = me->f[1];
-  if (f0 < 0 || f1 < 0) {                          /* fewer than two faces */
-    if (want & EDGE_BOUNDARY) kind |= EDGE_BOUNDARY;
-    if (want & EDGE_FACE) kind |= EDGE_FACE;       /* a mesh border is a polygon edge too */
-    return kind;
-  }
-  if ((want & EDGE_FACE) && (!tri_face || tri_face[f0] != tri_face[f1]))
-    kind |= EDGE_FACE;
-  Vec3 n0 = fn[f0], n1 = fn[f1];
-  int degenerate = et->zero ? et->zero[f0] | et->zero[f1] : v3_dot(n0, n0) == 0 || v3_dot(n1, n1) == 0;
-  if (want & EDGE_CREASE) {
-    if (me->sharpness > 0) kind |= EDGE_CREASE;   /* tagged by subdivision */
-    /* angle(n0, n1) >= threshold  <=>  n0 . n1 <= cos(threshold) */
-    else if (!degenerate && v3_dot(n0, n1) <= et->crease_cos)
-      kind |= EDGE_CREASE;
-  }
-  if ((want & EDGE_SILHOUETTE) && !degenerate) {
-    /* view vector from the camera to an end point; the product of the two
-    ** dot products is <= 0 when one face looks at the viewer and the other
-    ** away (or either is edge-on) */
-    Vec3 v = et->ortho ? et->forward : v3_sub(et->world[me->v[0]], et->eye);
-    if (v3_dot(v, n0) * v3_dot(v, n1) <= 0) kind |= EDGE_SILHOUETTE;
-  }
-  return kind;
-}
+/* Set on an edge's view-independent kinds where the silhouette test
+** applies: silhouettes are wanted and the edge has two faces, neither
+** degenerate. */
+#define EDGE_TRY_SILHOUETTE 0x80u
 
-unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
-                        const SceneLines *ls, const Camera *cam) {
-  EdgeTest et = {m->tri_face, world, fn, NULL, ls->kinds, crease_cos(ls->crease_angle),
-                 cam->kind == CAMERA_ORTHO, cam->forward, cam->eye};
-  return edge_kind_at(&m->edges[e], &et);
+/* The kinds of edge me that do not depend on the view, with
+** EDGE_TRY_SILHOUETTE. A degenerate face's NaN plane fails the crease
+** test and makes n0 . n1 NaN. */
+static inline unsigned static_kind(const MeshEdge *me, const EdgeTest *et) {
+  unsigned want = et->want;
+  int f0 = me->f[0], f1 = me->f[1];
+  if ((f0 | f1) < 0)   /* fewer than two faces: a mesh border is a polygon edge too */
+    return want & (EDGE_BOUNDARY | EDGE_FACE);
+  const FacePlane *n0 = &et->plane[f0], *n1 = &et->plane[f1];
+  double dot = n0->x * n1->x + n0->y * n1->y + n0->z * n1->z;
+  unsigned kind = dot == dot && (want & EDGE_SILHOUETTE) ? EDGE_TRY_SILHOUETTE : 0;
+  /* tagged by subdivision, or angle(n0, n1) >= threshold  <=>  n0 . n1 <= cos(threshold) */
+  if (me->sharpness > 0 || dot <= et->crease_cos) kind |= want & EDGE_CREASE;
+  if ((want & EDGE_FACE) && (!et->tri_face || et->tri_face[f0] != et->tri_face[f1]))
+    kind |= EDGE_FACE;
+  return kind;
 }
 
 /* ---- per object --------------------------------------------------------- */
@@ -99,7 +119,8 @@ static void build_adjacency(LineObjEdges *oe, const Mesh *m, const int *imp, int
   oe->adj_start[0] = 0;
 }
 
-/* World positions, clip coordinates and reference pixels of m's vertices. */
+/* Clip coordinates and reference pixels of m's vertices, and their world
+** positions into world (unless NULL: nothing needs them). */
 static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
                              const Camera *cam) {
   oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);   /* every entry written below */
@@ -107,7 +128,7 @@ static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 
   for (int v = 0; v < m->nverts; v++) {
     LineVert *lv = &oe->vert[v];
     Vec3 p = m4_point(to_world, m->pos[v]);
-    world[v] = p;
+    if (world) world[v] = p;
     for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
       lv->clip[r] = M[r][0] * p.x + M[r][1] * p.y + M[r][2] * p.z + M[r][3];
     double w = lv->clip[3];
@@ -134,106 +155,80 @@ static int outside_view(const LineObjEdges *oe, int nverts) {
   return nverts > 0 && all != 0;
 }
 
-/* How many edges ahead the classification loop prefetches what it
-** gathers. */
-#define EDGE_AHEAD 32
-
-/* Unit world normals of m's triangles (zero for a degenerate one), which
-** of them are zero (so classifying an edge need not test both of its
-** faces' normals again), and which of them the viewer sees the front of
-** (v . n < 0), in one pass. */
-static void face_normals(Vec3 *fn, unsigned char *zero, unsigned char *front, const Mesh *m,
-                         const Vec3 *world, const Camera *cam) {
-  int ortho = cam->kind == CAMERA_ORTHO;
+/* The side_bits of the triangles of planes plane[0..n) into side, and
+** which of them the viewer sees the front of (plane_side > 0: SIDE_FRONT
+** alone) into front. */
+static void face_sides(unsigned char *front, unsigned char *side, const FacePlane *plane, int n,
+                       const Camera *cam) {
   Vec3 fwd = cam->forward, eye = cam->eye;
-  for (int t = 0; t < m->ntris; t++) {
-    const int *c = m->tri[t];
-    Vec3 p0 = world[c[0]];
-    Vec3 n = v3_norm(v3_cross(v3_sub(world[c[1]], p0), v3_sub(world[c[2]], p0)));
-    fn[t] = n;
-    zero[t] = v3_dot(n, n) == 0;
-    Vec3 v = ortho ? fwd : v3_sub(p0, eye);
-    front[t] = v3_dot(v, n) < 0;
+  if (cam->kind == CAMERA_ORTHO) {   /* two loops: no test of the camera in either */
+    for (int t = 0; t < n; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 1, fwd, eye));
+  } else {
+    for (int t = 0; t < n; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 0, fwd, eye));
   }
+  for (int t = 0; t < n; t++) front[t] = side[t] == SIDE_FRONT;
 }
 
-/* Which of m's triangles the viewer sees the front of, from their unit
-** normals fn: face_normals' front alone. */
-static void face_fronts(unsigned char *front, const Mesh *m, const Vec3 *world, const Vec3 *fn,
-                        const Camera *cam) {
+/* The same for an object without lines (it only occludes): its front
+** faces, from planes made as they are needed. */
+static void occluder_fronts(unsigned char *front, const Mesh *m, const Vec3 *world,
+                            const Camera *cam) {
   int ortho = cam->kind == CAMERA_ORTHO;
   Vec3 fwd = cam->forward, eye = cam->eye;
-  for (int t = 0; t < m->ntris; t++) {
-    Vec3 v = ortho ? fwd : v3_sub(world[m->tri[t][0]], eye);
-    front[t] = v3_dot(v, fn[t]) < 0;
-  }
+  for (int t = 0; t < m->ntris; t++)
+    front[t] = plane_side(face_plane(world, m->tri[t]), ortho, fwd, eye) > 0;
 }
 
 /* ---- what the mesh decides, kept with it --------------------------------- */
 
 /* The half of classifying an object's edges that does not depend on the
-** view, kept with its mesh (mesh_derived) for the next frames: its unit
-** world face normals and their zero flags, and per edge its kinds
-** but silhouette, with EDGE_TRY_SILHOUETTE where the silhouette test
-** applies (two faces, neither degenerate). Made for one transform, set of
-** kinds and crease angle (compared exactly). */
+** view: its triangles' world planes and, per edge, its kinds but
+** silhouette (static_kind). Kept with a mesh kept for later frames
+** (mesh_derived), made for one transform, set of kinds and crease angle
+** (compared exactly); for any other mesh, made for the frame and freed. */
 typedef struct EdgeCache {
   Mat4 to_world;
   unsigned want;
   double crease_cos;
-  Vec3 *fn;
-  unsigned char *zero, *kind;
-  int ready;               /* fn, zero and kind are filled (the first frame may stop short) */
+  FacePlane *plane;
+  unsigned char *kind;
+  int ready;               /* plane and kind are filled (the first frame may stop short) */
 } EdgeCache;
-
-#define EDGE_TRY_SILHOUETTE 0x80u
 
 static const char edge_cache_tag;
 
 static void edge_cache_free(void *p) {
   EdgeCache *c = p;
-  free(c->fn);
-  free(c->zero);
+  free(c->plane);
   free(c->kind);
   free(c);
 }
 
-/* The view-independent kinds of m's edges into c->kind (c->fn, c->zero set). */
-static void static_kinds(EdgeCache *c, const Mesh *m, const Vec3 *world) {
-  EdgeTest et = {m->tri_face, world, c->fn, c->zero, c->want & ~(unsigned)EDGE_SILHOUETTE,
-                 c->crease_cos, 0, v3(0, 0, 0), v3(0, 0, 0)};
-  for (int e = 0; e < m->nedges; e++) {
-    const MeshEdge *me = &m->edges[e];
-    unsigned kind = edge_kind_at(me, &et);
-    if (me->f[0] >= 0 && me->f[1] >= 0 && !(c->zero[me->f[0]] | c->zero[me->f[1]]))
-      kind |= EDGE_TRY_SILHOUETTE;
-    c->kind[e] = (unsigned char)kind;
-  }
+/* Fill c from m's world positions. */
+static void edge_cache_fill(EdgeCache *c, const Mesh *m, const Vec3 *world) {
+  for (int t = 0; t < m->ntris; t++) c->plane[t] = face_plane(world, m->tri[t]);
+  EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
+  for (int e = 0; e < m->nedges; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
+  c->ready = 1;
 }
 
-/* The cache kept with m (which keeps_derived) for this transform, kinds
-** and crease angle, or a new one (not ready) kept with m in place of any
-** other. The mesh is the caller's to keep or free: the cache is an
-** addition to it, not a change. */
-static EdgeCache *edge_cache(const Mesh *m, Mat4 to_world, const SceneLines *ls) {
+/* The cache kept with m for this transform, kinds and crease angle, or a
+** new one (not ready), kept with m in place of any other when m
+** keeps_derived; else *scratch is set and it is the caller's to free. The
+** mesh is the caller's to keep or free: the cache is an addition to it,
+** not a change. */
+static EdgeCache *edge_cache(const Mesh *m, Mat4 to_world, const SceneLines *ls, int *scratch) {
   double ccos = crease_cos(ls->crease_angle);
   EdgeCache *c = mesh_derived(m, &edge_cache_tag);
+  *scratch = 0;
   if (c && !memcmp(&c->to_world, &to_world, sizeof to_world) && c->want == ls->kinds &&
       c->crease_cos == ccos)
     return c;
   c = xmalloc(sizeof *c);
-  *c = (EdgeCache){to_world, ls->kinds, ccos, xmalloc(((size_t)m->ntris + 1) * sizeof *c->fn),
-                   xmalloc((size_t)m->ntris + 1), xmalloc((size_t)m->nedges + 1), 0};
-  mesh_derived_set((Mesh *)m, &edge_cache_tag, c, edge_cache_free);
+  *c = (EdgeCache){to_world, ls->kinds, ccos, xmalloc(((size_t)m->ntris + 1) * sizeof *c->plane),
+                   xmalloc((size_t)m->nedges + 1), 0};
+  if (!mesh_derived_set((Mesh *)m, &edge_cache_tag, c, edge_cache_free)) *scratch = 1;
   return c;
-}
-
-/* The silhouette test of edge me (edge_kind_at's): one face looks at the
-** viewer and the other away (or either is edge-on). */
-static inline int silhouette_at(const MeshEdge *me, const Vec3 *world, const Vec3 *fn, int ortho,
-                                Vec3 forward, Vec3 eye) {
-  Vec3 v = ortho ? forward : v3_sub(world[me->v[0]], eye);
-  return v3_dot(v, fn[me->f[0]]) * v3_dot(v, fn[me->f[1]]) <= 0;
 }
 
 /* Append id entries for obj's important edges (kinds computed by the caller). */
@@ -251,47 +246,17 @@ static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
   out->n++;
 }
 
-/* Classify m's edges (object obj) in one pass, appending the important
-** ones. */
-static inline __attribute__((always_inline)) void classify(LineEdges *out, int *cap, int obj,
-                                                            LineObjEdges *oe, const Mesh *m,
-                                                            const EdgeTest *test) {
-  const EdgeTest et = *test;   /* a local copy: the appends below cannot change it */
-  const MeshEdge *me = m->edges;
-  for (int e = 0; e < m->nedges; e++) {
-#ifdef __GNUC__
-    if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
-      const MeshEdge *ahead = &me[e + EDGE_AHEAD];
-      if (ahead->f[0] >= 0) __builtin_prefetch(&et.fn[ahead->f[0]]);
-      if (ahead->f[1] >= 0) __builtin_prefetch(&et.fn[ahead->f[1]]);
-      __builtin_prefetch(&et.world[ahead->v[0]]);
-    }
-#endif
-    unsigned kind = edge_kind_at(&me[e], &et);
-    if (!kind) continue;
-    add_edge(out, cap, obj, e, kind);
-    oe->id[e] = out->n;
-  }
-}
-
-/* The same from c's kinds: only the silhouette test is made again. */
-static void classify_kept(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
-                          const EdgeCache *c, const Vec3 *world, const Camera *cam) {
-  int ortho = cam->kind == CAMERA_ORTHO, sil = (c->want & EDGE_SILHOUETTE) != 0;
+/* Append m's important edges (object obj): c's kinds, and a silhouette
+** where the edge's faces' side bits are both. */
+static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
+                     const EdgeCache *c, const unsigned char *side) {
   const MeshEdge *me = m->edges;
   const unsigned char *ck = c->kind;
-  const Vec3 *fn = c->fn;
   for (int e = 0; e < m->nedges; e++) {
-    unsigned kind = ck[e] & ~EDGE_TRY_SILHOUETTE;
-    if (sil && (ck[e] & EDGE_TRY_SILHOUETTE)) {
-#ifdef __GNUC__
-      if (e + EDGE_AHEAD < m->nedges) {   /* the gathers of a later edge, ahead of time */
-        const MeshEdge *ahead = &me[e + EDGE_AHEAD];
-        __builtin_prefetch(&fn[ahead->f[0] > 0 ? ahead->f[0] : 0]);
-        __builtin_prefetch(&fn[ahead->f[1] > 0 ? ahead->f[1] : 0]);
-      }
-#endif
-      if (silhouette_at(&me[e], world, fn, ortho, cam->forward, cam->eye)) kind |= EDGE_SILHOUETTE;
+    unsigned kind = ck[e];
+    if (kind & EDGE_TRY_SILHOUETTE) {
+      if ((side[me[e].f[0]] | side[me[e].f[1]]) == (SIDE_FRONT | SIDE_BACK)) kind |= EDGE_SILHOUETTE;
+      kind &= ~EDGE_TRY_SILHOUETTE;
     }
     if (!kind) continue;
     add_edge(out, cap, obj, e, kind);
@@ -309,46 +274,30 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     LineObjEdges *oe = &out->obj[i];
     oe->mesh = m;
     oe->lines = objs[i].lines && objs[i].lines->present && objs[i].lines->kinds ? objs[i].lines : NULL;
-    /* An object that draws lines keeps its face normals and the kinds
-    ** that do not depend on the view with a mesh kept for later frames
-    ** (EdgeCache); the rest, and all of the others', are scratch, every
-    ** entry written before it is read (from the heap, which keeps the
-    ** earlier stages' freed, already mapped memory for reuse). */
-    EdgeCache *c = oe->lines && m->keeps_derived ? edge_cache(m, objs[i].object_to_world, oe->lines) : NULL;
-    Vec3 *world = xmalloc(((size_t)m->nverts + 1) * sizeof *world);
-    Vec3 *fn = c ? c->fn : xmalloc(((size_t)m->ntris + 1) * sizeof *fn);
-    unsigned char *zero = c ? c->zero : xmalloc((size_t)m->ntris + 1);
+    /* World positions are scratch (from the heap, which keeps the earlier
+    ** stages' freed, already mapped memory for reuse), needed only where
+    ** no kept cache has the planes. */
+    int scratch = 0;
+    EdgeCache *c = oe->lines ? edge_cache(m, objs[i].object_to_world, oe->lines, &scratch) : NULL;
+    Vec3 *world = c && c->ready ? NULL : xmalloc(((size_t)m->nverts + 1) * sizeof *world);
     project_vertices(oe, world, m, objs[i].object_to_world, cam);
     oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
     if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
       oe->lines = NULL;
-    } else if (c && c->ready) {
-      face_fronts(oe->front, m, world, fn, cam);
+    } else if (!oe->lines) {
+      occluder_fronts(oe->front, m, world, cam);
     } else {
-      face_normals(fn, zero, oe->front, m, world, cam);
-    }
-    if (oe->lines) {
+      if (!c->ready) edge_cache_fill(c, m, world);
+      unsigned char *side = xmalloc((size_t)m->ntris + 1);
+      face_sides(oe->front, side, c->plane, m->ntris, cam);
       int first = out->n;
-      if (c) {
-        if (!c->ready) {
-          static_kinds(c, m, world);
-          c->ready = 1;
-        }
-        classify_kept(out, &cap, i, oe, m, c, world, cam);
-      } else {
-        EdgeTest et = {m->tri_face, world, fn, zero, oe->lines->kinds,
-                       crease_cos(oe->lines->crease_angle), cam->kind == CAMERA_ORTHO,
-                       cam->forward, cam->eye};
-        classify(out, &cap, i, oe, m, &et);
-      }
+      classify(out, &cap, i, oe, m, c, side);
+      free(side);
       build_adjacency(oe, m, out->edge_of + first, out->n - first);
     }
+    if (scratch) edge_cache_free(c);
     free(world);
-    if (!c) {
-      free(fn);
-      free(zero);
-    }
   }
 }
 

@@ -86,11 +86,4 @@ void line_edges_free(LineEdges *e);
 ** that depend only on the task, never on the worker, are deterministic. */
 void line_parallel(int ntasks, int threads, void (*fn)(void *ctx, int task, int worker), void *ctx);
 
-/* The kinds (EdgeKindBits, restricted to the style's kinds) that make mesh
-** edge e important for a viewer at eye (perspective) or looking along
-** forward (ortho); world holds the mesh's world positions and fn its unit
-** world face normals (zero for a degenerate face). Exposed for tests. */
-unsigned line_edge_kind(const Mesh *m, int e, const Vec3 *world, const Vec3 *fn,
-                        const SceneLines *ls, const Camera *cam);
-
 #endif
