@@ -52,9 +52,16 @@ static inline float floor_of(float v) {
 static float gradient_noise(const float *grad, int p, float X, float Y) {
   float fx = floor_of(X), fy = floor_of(Y);
   float x = X - fx, y = Y - fy;
-  int i0 = (int)fx % p, j0 = (int)fy % p;
-  if (i0 < 0) i0 += p;
-  if (j0 < 0) j0 += p;
+  int i0, j0, m = p - 1;
+  if ((p & m) == 0) {   /* a power of two (the usual lattices): the remainder is a mask */
+    i0 = (int)fx & m;
+    j0 = (int)fy & m;
+  } else {
+    i0 = (int)fx % p;
+    j0 = (int)fy % p;
+    if (i0 < 0) i0 += p;
+    if (j0 < 0) j0 += p;
+  }
   int i1 = i0 + 1 == p ? 0 : i0 + 1, j1 = j0 + 1 == p ? 0 : j0 + 1;
   const float *g00 = grad + 2 * (j0 * p + i0), *g10 = grad + 2 * (j0 * p + i1);
   const float *g01 = grad + 2 * (j1 * p + i0), *g11 = grad + 2 * (j1 * p + i1);
@@ -66,6 +73,8 @@ static float gradient_noise(const float *grad, int p, float X, float Y) {
 }
 
 float noise_fbm_eval(const NoiseFbm *n, float x, float y) {
+  if (n->octaves == 1)   /* the sum below, to the bit: 0 + 1 g, over 1 */
+    return 0.0f + gradient_noise(n->grad[0], n->cells, x * (float)n->cells, y * (float)n->cells);
   float sum = 0, amp = 1, total = 0;
   for (int k = 0; k < n->octaves; k++) {
     int p = n->cells << k;
