@@ -445,9 +445,8 @@ static void composite_row8(const Paint *pt, int y, uint8_t *out, int *D, FlatMix
   const float *ink = pt->c ? pt->c->ink + row : NULL;
   int lo = 0, hi = 0;   /* the row's pixels from its first ink to its last */
   if (ink) {
-    while (lo + 4 <= w && ((ink[lo] == 0) & (ink[lo + 1] == 0) & (ink[lo + 2] == 0) & (ink[lo + 3] == 0))) lo += 4;
-    while (lo < w && ink[lo] == 0) lo++;
-    for (hi = w; hi > lo && ink[hi - 1] == 0; hi--) {}
+    lo = ink_first_nonzero(ink, 0, w);
+    hi = ink_nonzero_end(ink, lo, w);
   }
   for (int x0 = 0, tx = ox % tw; x0 < w; x0 += tw - tx, tx = 0) {   /* runs of the tile's row */
     int n = w - x0 < tw - tx ? w - x0 : tw - tx;

@@ -18,6 +18,7 @@
 #define render_ink_h
 
 #include <stdint.h>
+#include <string.h>
 
 #include "render.h"
 
@@ -101,6 +102,29 @@ static inline int ink_range(const InkStyle *k, float v) {
 /* The quantised tone of v, and its level label. */
 static inline float ink_quantise(const InkStyle *k, float v) { return k->tones[ink_range(k, v)]; }
 static inline int ink_label(const InkStyle *k, float v) { return k->ntones - 1 - ink_range(k, v); }
+
+/* The rows of ink planes are mostly zeros around the ink: where it
+** begins and ends, eight values a step (their bits but the signs, so -0
+** is zero too). */
+static inline int ink_zeros8(const float *v) {
+  uint64_t b[4];
+  memcpy(b, v, sizeof b);
+  return ((b[0] | b[1] | b[2] | b[3]) & 0x7fffffff7fffffffull) == 0;
+}
+
+/* The first of v[a..e) that is not zero; e if none is. */
+static inline int ink_first_nonzero(const float *v, int a, int e) {
+  while (a + 8 <= e && ink_zeros8(v + a)) a += 8;
+  while (a < e && v[a] == 0) a++;
+  return a;
+}
+
+/* One past the last of v[a..e) that is not zero; a if none is. */
+static inline int ink_nonzero_end(const float *v, int a, int e) {
+  while (e - 8 >= a && ink_zeros8(v + e - 8)) e -= 8;
+  while (e > a && v[e - 1] == 0) e--;
+  return e;
+}
 
 /* ---- ink_diffuse.c ---------------------------------------------------------- */
 

@@ -554,13 +554,8 @@ static void column_sums(const float *const *rows, int n, size_t m, double *restr
 static void nonzero_span(const float *const *src, int nplanes, int m0, int m1, int *lo, int *hi) {
   int a = m1, e = m0;
   for (int k = 0; k < nplanes; k++) {
-    const float *v = src[k];
-    int x = m0;
-    while (x + 4 <= a && ((v[x] == 0) & (v[x + 1] == 0) & (v[x + 2] == 0) & (v[x + 3] == 0))) x += 4;
-    while (x < a && v[x] == 0) x++;
-    a = x;
-    for (x = m1; x > e && v[x - 1] == 0; x--) {}
-    e = x;
+    a = ink_first_nonzero(src[k], m0, a);
+    e = ink_nonzero_end(src[k], e, m1);
   }
   *lo = a < e ? a : 0;
   *hi = a < e ? e : 0;
