@@ -45,9 +45,11 @@ static inline int wrap(int v, int t) {
 /* Cover a disc of radius r around (px, py) with strength s, wrapping;
 ** coverage keeps its largest value, so a fibre's own overlapping steps
 ** and crossing fibres do not pile up. */
+/* Cover reaches pixels whose centres lie within r + 0.5 of (px, py): a
+** column (row) past ceil(px + r) lies at least r + 1.5 away. */
 static void fibre_dab(Fibres *fb, float *plane, float px, float py, float r, float s) {
-  int t = fb->t, x0 = (int)floorf(px - r - 1), x1 = (int)ceilf(px + r + 1);
-  int y0 = (int)floorf(py - r - 1), y1 = (int)ceilf(py + r + 1);
+  int t = fb->t, x0 = (int)floorf(px - r - 1), x1 = (int)ceilf(px + r);
+  int y0 = (int)floorf(py - r - 1), y1 = (int)ceilf(py + r);
   for (int y = y0; y <= y1; y++) {
     float *row = &plane[(size_t)wrap(y, t) * t];
     for (int x = x0; x <= x1; x++) {
@@ -93,14 +95,17 @@ static void enlarge(const float *src, int s, float *dst, int t) {
     i0[x] = ((a % s) + s) % s;
     i1[x] = (i0[x] + 1) % s;
   }
-  for (int y = 0; y < t; y++) {
-    const float *r0 = src + (size_t)i0[y] * s, *r1 = src + (size_t)i1[y] * s;
-    for (int x = 0; x < t; x++) {
-      float top = r0[i0[x]] + (r0[i1[x]] - r0[i0[x]]) * w[x];
-      float bottom = r1[i0[x]] + (r1[i1[x]] - r1[i0[x]]) * w[x];
-      dst[(size_t)y * t + x] = top + (bottom - top) * w[y];
-    }
+  float *across = xmalloc((size_t)s * t * sizeof *across);   /* each source row enlarged along it */
+  for (int y = 0; y < s; y++) {
+    const float *r = src + (size_t)y * s;
+    for (int x = 0; x < t; x++) across[(size_t)y * t + x] = r[i0[x]] + (r[i1[x]] - r[i0[x]]) * w[x];
   }
+  for (int y = 0; y < t; y++) {   /* then between two of them, a row in lanes */
+    const float *top = across + (size_t)i0[y] * t, *bottom = across + (size_t)i1[y] * t;
+    float *d = dst + (size_t)y * t, wy = w[y];
+    for (int x = 0; x < t; x++) d[x] = top[x] + (bottom[x] - top[x]) * wy;
+  }
+  free(across);
   free(i0);
   free(i1);
   free(w);
@@ -134,7 +139,7 @@ static void normalise_absorb(Paper *p, double grain) {
 static void fill_codes(Paper *p) {
   size_t n = (size_t)p->width * p->height * 3;
   p->code = xmalloc(n + 1);
-  for (size_t i = 0; i < n; i++) p->code[i] = (uint8_t)(p->display[i] * 255 + 0.5f);
+  for (size_t i = 0; i < n; i++) p->code[i] = (uint8_t)(int)(p->display[i] * 255 + 0.5f);   /* in [0, 255.5]: in lanes */
 }
 
 /* The linear values of the display values (p->linear allocated). */
