@@ -651,6 +651,8 @@ static int cmd_render(const Options *o) {
       bad_usage("--tile writes .png, .tif or .exr files (exact pixels, and their place in the frame), not `%s`",
                 o->output);
   }
+  RenderOptions threads = {.threads = o->threads};
+  subdiv_threads(render_thread_count(&threads));   /* subdivided meshes (render and CSG) */
   FrameSet fs;
   char err[512];
   if (o->frames && !frames_parse(o->frames, o->only, &fs, err, sizeof err)) bad_usage("%s", err);

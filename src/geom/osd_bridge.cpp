@@ -294,24 +294,26 @@ std::vector<float> tagged_edges(SumiOsdTopology const &t, Far::TopologyRefiner c
 
 // Limit positions (lim) and unit limit normals (nrm, zero where the
 // tangents give none) of the last level's points, each 3 * n doubles.
+// The first tangents are made in nrm itself, each turned into its normal
+// in place (the same arithmetic, 24 bytes a point less at the peak).
 void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
                   SumiOsdScheme scheme, double *lim, double *nrm) {
   size_t n = last.size();
-  std::memset(nrm, 0, 3 * n * sizeof(double));
   if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
+    std::memset(nrm, 0, 3 * n * sizeof(double));
     if (n) std::memcpy(lim, last.data(), n * sizeof(Point));
     return;
   }
-  std::vector<Point> t1(n), t2(n);
+  std::vector<Point> t2(n);
   Far::PrimvarRefinerReal<double> pr(r);
-  PointOut out{lim};
+  PointOut out{lim}, t1{nrm};
   pr.Limit(last, out, t1, t2);
   for (size_t i = 0; i < n; i++) {
-    double const *a = t1[i].p, *b = t2[i].p;
+    double const *a = nrm + 3 * i, *b = t2[i].p;
     double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
     double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    if (len > 0 && std::isfinite(len))
-      for (int k = 0; k < 3; k++) nrm[3 * i + k] = c[k] / len;
+    int ok = len > 0 && std::isfinite(len);
+    for (int k = 0; k < 3; k++) nrm[3 * i + k] = ok ? c[k] / len : 0;
   }
 }
 

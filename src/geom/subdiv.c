@@ -11,6 +11,14 @@
 #include <string.h>
 
 #include "../base/mem.h"
+#include "../base/tasks.h"
+
+/* Threads a refinement may use (subdiv_threads). */
+static int threads = 1;
+
+void subdiv_threads(int n) {
+  threads = n > 0 ? n : 1;
+}
 
 /* ---- names and counts -------------------------------------------------- */
 
@@ -224,22 +232,40 @@ static int triangle_count(const SumiOsdRefined *r) {
   return n;
 }
 
-static void fill_triangles(Mesh *m, const SumiOsdRefined *r) {
-  int t = 0;
-  for (int f = 0; f < r->nfaces; f++) {
+/* Faces one fill task triangulates. */
+#define FILL_CHUNK 8192
+
+typedef struct FillJob {
+  Mesh *m;
+  const SumiOsdRefined *r;
+} FillJob;
+
+/* Faces [FILL_CHUNK * k, ...) of the refinement; face f's triangles start
+** at face_start[f] - 2 f (an n-gon makes n - 2), so chunks write apart. */
+static void fill_task(void *ctx, int k) {
+  const FillJob *job = ctx;
+  Mesh *m = job->m;
+  const SumiOsdRefined *r = job->r;
+  int f0 = k * FILL_CHUNK, f1 = f0 + FILL_CHUNK < r->nfaces ? f0 + FILL_CHUNK : r->nfaces;
+  for (int f = f0; f < f1; f++) {
     const int *v = r->face_index + r->face_start[f];
-    int n = r->face_start[f + 1] - r->face_start[f];
+    int n = r->face_start[f + 1] - r->face_start[f], t = r->face_start[f] - 2 * f;
     int k0 = 0;  /* fan origin: for a quad, the end of the shorter diagonal */
     if (n == 4 && dist2(r->limit + 3 * v[1], r->limit + 3 * v[3]) <
                       dist2(r->limit + 3 * v[0], r->limit + 3 * v[2]))
       k0 = 1;
-    for (int k = 1; k + 1 < n; k++) {
+    for (int i = 1; i + 1 < n; i++) {
       m->tri[t][0] = v[k0];
-      m->tri[t][1] = v[(k0 + k) % n];
-      m->tri[t][2] = v[(k0 + k + 1) % n];
+      m->tri[t][1] = v[(k0 + i) % n];
+      m->tri[t][2] = v[(k0 + i + 1) % n];
       m->tri_face[t++] = r->face_base[f];
     }
   }
+}
+
+static void fill_triangles(Mesh *m, const SumiOsdRefined *r) {
+  FillJob job = {m, r};
+  tasks_run((r->nfaces + FILL_CHUNK - 1) / FILL_CHUNK, threads, fill_task, &job);
 }
 
 /* Limit normals, turned to agree with the area-weighted face normals; a
@@ -251,6 +277,14 @@ static void fill_normals(Mesh *m, const SumiOsdRefined *r) {
     if (!(v3_len(n) > 0.5)) continue;
     m->nrm[i] = v3_dot(n, m->nrm[i]) < 0 ? v3_mul(n, -1) : n;
   }
+}
+
+/* The edges and the normals of the triangulated mesh: neither reads what
+** the other writes. */
+static void finish_task(void *ctx, int k) {
+  const FillJob *job = ctx;
+  if (k == 1) fill_normals(job->m, job->r);
+  else if (!edges_from_level(job->m, job->r)) edges_by_hash(job->m, job->r);
 }
 
 Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRefined *refined,
@@ -267,8 +301,8 @@ Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRe
   Mesh *m = mesh_alloc(r.nverts, triangle_count(&r));   /* every entry filled below */
   memcpy(m->pos, r.limit, sizeof(Vec3) * (size_t)r.nverts);
   fill_triangles(m, &r);
-  if (!edges_from_level(m, &r)) edges_by_hash(m, &r);
-  fill_normals(m, &r);
+  FillJob job = {m, &r};
+  tasks_run(2, threads, finish_task, &job);
   if (refined) *refined = r;
   else sumi_osd_refined_free(&r);
   return m;

@@ -46,6 +46,10 @@ int subdiv_check(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, si
 ** mesh bit for bit; give it back with subdiv_mesh_done. */
 Mesh *subdiv_mesh(const SceneGeometry *g, SumiOsdBoundary boundary, char *err, size_t errlen);
 
+/* Worker threads each later refinement may use (1 at start); the result
+** is the same at any count. */
+void subdiv_threads(int n);
+
 /* Across the frames of an animation: keep the refinements of the last
 ** `entries` inputs subdiv_mesh was asked for (each with a copy of its
 ** inputs), so a mesh that does not change is refined once. 0 keeps none,
