@@ -212,6 +212,16 @@ static inline int far_from_samples(uint32_t a, uint32_t b, uint32_t c, const Til
   return !(m->block[y0 * (uint32_t)m->tw + x0] & covered);
 }
 
+/* Is the box r (LineObjEdges.cluster) of a run of triangles off the image
+** or clear of every tile with samples? Then so is each of its triangles'
+** boxes, and none of them is kept. */
+static inline int far_cluster(const float r[4], int w, int h, const TileSat *m) {
+  if (r[3] < 0 || r[1] > h || r[2] < 0 || r[0] > w) return 1;
+  return !sat_any(m, (int)(r[0] > 0 ? r[0] : 0) >> m->bits, (int)(r[1] > 0 ? r[1] : 0) >> m->bits,
+                  (int)(r[2] < w - 1 ? r[2] : (float)(w - 1)) >> m->bits,
+                  (int)(r[3] < h - 1 ? r[3] : (float)(h - 1)) >> m->bits);
+}
+
 /* Every triangle of every object that reaches a tile of sat, with the
 ** offset its object's edges get from it, but for the back faces an
 ** object's own front hides (LineObject.hidden). The vertices are the ones
@@ -229,7 +239,12 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     if (!(factor > 0)) factor = 0;
     uint32_t *code = sat ? vertex_tiles(v, m->nverts, w, h, sat->bits) : NULL;
     const unsigned char *hidden = objs[i].hidden;
+    const float(*cl)[4] = edges->obj[i].cluster;
     for (int t = 0; t < m->ntris; t++) {
+      if (cl && sat && t % LINE_CLUSTER_TRIS == 0 && far_cluster(cl[t / LINE_CLUSTER_TRIS], w, h, sat)) {
+        t += LINE_CLUSTER_TRIS - 1;   /* the whole run */
+        continue;
+      }
       if (hidden && hidden[t]) continue;   /* behind the object's own front */
       const int *tv = m->tri[t];
       if (code && far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], sat)) continue;

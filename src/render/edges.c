@@ -192,7 +192,10 @@ typedef struct EdgeCache {
   double crease_cos;
   FacePlane *plane;
   unsigned char *kind;
-  int ready;               /* plane and kind are filled (the first frame may stop short) */
+  double (*box)[6];        /* per run of LINE_CLUSTER_TRIS triangles: the least and greatest
+                              x, y, z of their corners (world); NULL in a cache made for
+                              one frame */
+  int ready;               /* plane, kind and box are filled (the first frame may stop short) */
 } EdgeCache;
 
 static const char edge_cache_tag;
@@ -201,15 +204,66 @@ static void edge_cache_free(void *p) {
   EdgeCache *c = p;
   free(c->plane);
   free(c->kind);
+  free(c->box);
   free(c);
+}
+
+static int nclusters(const Mesh *m) {
+  return (m->ntris + LINE_CLUSTER_TRIS - 1) / LINE_CLUSTER_TRIS;
 }
 
 /* Fill c from m's world positions. */
 static void edge_cache_fill(EdgeCache *c, const Mesh *m, const Vec3 *world) {
   for (int t = 0; t < m->ntris; t++) c->plane[t] = face_plane(world, m->tri[t]);
+  for (int k = 0, t0 = 0; c->box && t0 < m->ntris; k++, t0 += LINE_CLUSTER_TRIS) {
+    const int *v = m->tri[t0], *end = m->tri[t0 + LINE_CLUSTER_TRIS < m->ntris ? t0 + LINE_CLUSTER_TRIS : m->ntris];
+    double x0 = world[*v].x, y0 = world[*v].y, z0 = world[*v].z, x1 = x0, y1 = y0, z1 = z0;
+    for (; v < end; v++) {   /* every corner of the run's triangles */
+      Vec3 p = world[*v];
+      x0 = p.x < x0 ? p.x : x0;
+      y0 = p.y < y0 ? p.y : y0;
+      z0 = p.z < z0 ? p.z : z0;
+      x1 = p.x > x1 ? p.x : x1;
+      y1 = p.y > y1 ? p.y : y1;
+      z1 = p.z > z1 ? p.z : z1;
+    }
+    double *b = c->box[k];
+    b[0] = x0, b[1] = y0, b[2] = z0, b[3] = x1, b[4] = y1, b[5] = z1;
+  }
   EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
   for (int e = 0; e < m->nedges; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
   c->ready = 1;
+}
+
+/* A box in reference pixels holding the projection of world box b (its
+** corners' pixels, a pixel wider on each side for the rounding of the
+** vertices' own projection), or an infinite one when some of b is behind
+** the near plane or the eye (or not finite). Every point of b is in front
+** of the near plane when its corners are, and then projects inside the
+** hull of theirs. */
+static void cluster_rect(float r[4], const double b[6], const Camera *cam) {
+  const double(*M)[4] = cam->world_to_clip.m;
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  int ahead = 1;
+  for (int k = 0; k < 8; k++) {
+    double p[3] = {b[k & 1 ? 3 : 0], b[k & 2 ? 4 : 1], b[k & 4 ? 5 : 2]}, q[4];
+    for (int j = 0; j < 4; j++) q[j] = M[j][0] * p[0] + M[j][1] * p[1] + M[j][2] * p[2] + M[j][3];
+    ahead &= q[3] > 0 && q[2] + q[3] >= 0;
+    double x = (q[0] / q[3] + 1) * 0.5 * cam->width, y = (1 - q[1] / q[3]) * 0.5 * cam->height;
+    x0 = x < x0 ? x : x0;
+    y0 = y < y0 ? y : y0;
+    x1 = x > x1 ? x : x1;
+    y1 = y > y1 ? y : y1;
+  }
+  if (!(ahead && isfinite(x0) && isfinite(y0) && isfinite(x1) && isfinite(y1))) {
+    r[0] = r[1] = -INFINITY;
+    r[2] = r[3] = INFINITY;
+    return;
+  }
+  r[0] = (float)(x0 - 1);
+  r[1] = (float)(y0 - 1);
+  r[2] = (float)(x1 + 1);
+  r[3] = (float)(y1 + 1);
 }
 
 /* The cache kept with m for this transform, kinds and crease angle, or a
@@ -226,8 +280,12 @@ static EdgeCache *edge_cache(const Mesh *m, Mat4 to_world, const SceneLines *ls,
     return c;
   c = xmalloc(sizeof *c);
   *c = (EdgeCache){to_world, ls->kinds, ccos, xmalloc(((size_t)m->ntris + 1) * sizeof *c->plane),
-                   xmalloc((size_t)m->nedges + 1), 0};
+                   xmalloc((size_t)m->nedges + 1), NULL, 0};
   if (!mesh_derived_set((Mesh *)m, &edge_cache_tag, c, edge_cache_free)) *scratch = 1;
+  /* Making the boxes costs more than they spare the reference image in
+  ** one frame (most triangles of a large mesh lie near some edge's
+  ** samples): they are made once for a mesh kept across frames. */
+  if (!*scratch) c->box = xmalloc(((size_t)nclusters(m) + 1) * sizeof *c->box);
   return c;
 }
 
@@ -295,6 +353,10 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
       classify(out, &cap, i, oe, m, c, side);
       free(side);
       build_adjacency(oe, m, out->edge_of + first, out->n - first);
+      if (c->box) {
+        oe->cluster = xmalloc(((size_t)nclusters(m) + 1) * sizeof *oe->cluster);
+        for (int k = 0; k < nclusters(m); k++) cluster_rect(oe->cluster[k], c->box[k], cam);
+      }
     }
     if (scratch) edge_cache_free(c);
     free(world);
@@ -308,6 +370,7 @@ void line_edges_free(LineEdges *e) {
     free(e->obj[i].adj_start);
     free(e->obj[i].adj);
     free(e->obj[i].front);
+    free(e->obj[i].cluster);
   }
   free(e->obj);
   free(e->obj_of);

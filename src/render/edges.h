@@ -52,6 +52,11 @@ static inline void line_clip_to_screen(const double c[4], int w, int h, float *x
   *n = (float)((1 - c[2] * iw) * 0.5);
 }
 
+/* The triangles of a mesh in runs of this many (the last may be short),
+** each with a bound on its pixels in the reference image: a run none of
+** whose pixels is near an edge is passed over as a whole. */
+#define LINE_CLUSTER_TRIS 64
+
 /* Per-object edge data, built by line_edges_build. */
 typedef struct LineObjEdges {
   const Mesh *mesh;
@@ -62,6 +67,11 @@ typedef struct LineObjEdges {
                               of the important edges (the only ones linking walks) */
   int *adj;                /* incident important mesh edges of each vertex, in edge order */
   unsigned char *front;    /* per triangle: its front faces the viewer */
+  float (*cluster)[4];     /* per run of LINE_CLUSTER_TRIS triangles: x0, y0, x1, y1, a box in
+                              reference pixels holding every pixel of its triangles (infinite
+                              where part of the run is behind the near plane); NULL when not
+                              made (an object without lines, or a mesh not kept across
+                              frames) */
 } LineObjEdges;
 
 /* Every important edge of every object; id i + 1 is entry i. */
