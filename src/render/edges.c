@@ -191,7 +191,7 @@ typedef struct EdgeCache {
   unsigned want;
   double crease_cos;
   FacePlane *plane;
-  unsigned char *kind;
+  unsigned char *kind;     /* NULL in a cache made for one frame */
   double (*box)[6];        /* per run of LINE_CLUSTER_TRIS triangles: the least and greatest
                               x, y, z of their corners (world); NULL in a cache made for
                               one frame */
@@ -231,7 +231,7 @@ static void edge_cache_fill(EdgeCache *c, const Mesh *m, const Vec3 *world) {
     b[0] = x0, b[1] = y0, b[2] = z0, b[3] = x1, b[4] = y1, b[5] = z1;
   }
   EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
-  for (int e = 0; e < m->nedges; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
+  for (int e = 0; c->kind && e < m->nedges; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
   c->ready = 1;
 }
 
@@ -280,12 +280,16 @@ static EdgeCache *edge_cache(const Mesh *m, Mat4 to_world, const SceneLines *ls,
     return c;
   c = xmalloc(sizeof *c);
   *c = (EdgeCache){to_world, ls->kinds, ccos, xmalloc(((size_t)m->ntris + 1) * sizeof *c->plane),
-                   xmalloc((size_t)m->nedges + 1), NULL, 0};
+                   NULL, NULL, 0};
   if (!mesh_derived_set((Mesh *)m, &edge_cache_tag, c, edge_cache_free)) *scratch = 1;
-  /* Making the boxes costs more than they spare the reference image in
+  /* For one frame the kinds are worked out as the edges are classified.
+  ** Making the boxes costs more than they spare the reference image in
   ** one frame (most triangles of a large mesh lie near some edge's
   ** samples): they are made once for a mesh kept across frames. */
-  if (!*scratch) c->box = xmalloc(((size_t)nclusters(m) + 1) * sizeof *c->box);
+  if (!*scratch) {
+    c->kind = xmalloc((size_t)m->nedges + 1);
+    c->box = xmalloc(((size_t)nclusters(m) + 1) * sizeof *c->box);
+  }
   return c;
 }
 
@@ -304,14 +308,15 @@ static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
   out->n++;
 }
 
-/* Append m's important edges (object obj): c's kinds, and a silhouette
-** where the edge's faces' side bits are both. */
-static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
-                     const EdgeCache *c, const unsigned char *side) {
+/* Append m's important edges (object obj): their view-independent kinds
+** (ck, or static_kind from et where ck is NULL), and a silhouette where
+** the edge's faces' side bits are both. */
+static inline __attribute__((always_inline)) void classify_from(
+    LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m, const unsigned char *ck,
+    const EdgeTest *et, const unsigned char *side) {
   const MeshEdge *me = m->edges;
-  const unsigned char *ck = c->kind;
   for (int e = 0; e < m->nedges; e++) {
-    unsigned kind = ck[e];
+    unsigned kind = ck ? ck[e] : static_kind(&me[e], et);
     if (kind & EDGE_TRY_SILHOUETTE) {
       if ((side[me[e].f[0]] | side[me[e].f[1]]) == (SIDE_FRONT | SIDE_BACK)) kind |= EDGE_SILHOUETTE;
       kind &= ~EDGE_TRY_SILHOUETTE;
@@ -320,6 +325,15 @@ static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const 
     add_edge(out, cap, obj, e, kind);
     oe->id[e] = out->n;
   }
+}
+
+/* The same from c: its kept kinds, or for a cache made for one frame
+** (no kinds kept) worked out in the same pass. */
+static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
+                     const EdgeCache *c, const unsigned char *side) {
+  EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
+  if (c->kind) classify_from(out, cap, obj, oe, m, c->kind, &et, side);
+  else classify_from(out, cap, obj, oe, m, NULL, &et, side);
 }
 
 void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam) {
