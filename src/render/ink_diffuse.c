@@ -652,9 +652,10 @@ void ink_box_filter_rect(float **planes, int nplanes, const uint8_t *weight, int
     for (int k = 0; k < nplanes; k++) {   /* row y's own sums are in the ring: it may change now */
       float *restrict dst = planes[k] + (size_t)y * w + rx0;
       const double *sum = acc + (size_t)k * rw;
-      for (int x = 0; x < ua; x++) dst[x] = 0;   /* windows of zeros: +0 */
+      /* outside [ua, ub) the windows hold only zeros, row y's own values
+      ** among them (its sums' span covers every value of it that is not
+      ** zero): they are zeros already, and are left so */
       for (int x = ua; x < ub; x++) dst[x] = (float)sum[x] * inv[x];
-      for (int x = ub; x < rw; x++) dst[x] = 0;
     }
   }
   free(rows);
