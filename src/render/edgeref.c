@@ -240,20 +240,20 @@ static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *o
     uint32_t *code = sat ? vertex_tiles(v, m->nverts, w, h, sat->bits) : NULL;
     const unsigned char *hidden = objs[i].hidden;
     const float(*cl)[4] = edges->obj[i].cluster;
-    for (int t = 0; t < m->ntris; t++) {
-      if (cl && sat && t % LINE_CLUSTER_TRIS == 0 && far_cluster(cl[t / LINE_CLUSTER_TRIS], w, h, sat)) {
-        t += LINE_CLUSTER_TRIS - 1;   /* the whole run */
-        continue;
-      }
-      if (hidden && hidden[t]) continue;   /* behind the object's own front */
-      const int *tv = m->tri[t];
-      if (code && far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], sat)) continue;
-      const LineVert *a = &v[tv[0]], *b = &v[tv[1]], *c = &v[tv[2]];
-      if (a->in & b->in & c->in) {
-        add_front(l, a, b, c, i, t, factor, w, h, sat);
-      } else {
-        const double *cc[3] = {a->clip, b->clip, c->clip};
-        add_clipped(l, cc, i, t, factor, w, h, sat);
+    for (int t0 = 0; t0 < m->ntris; t0 += LINE_CLUSTER_TRIS) {
+      if (cl && sat && far_cluster(cl[t0 / LINE_CLUSTER_TRIS], w, h, sat)) continue;   /* the whole run */
+      int t1 = t0 + LINE_CLUSTER_TRIS < m->ntris ? t0 + LINE_CLUSTER_TRIS : m->ntris;
+      for (int t = t0; t < t1; t++) {
+        if (hidden && hidden[t]) continue;   /* behind the object's own front */
+        const int *tv = m->tri[t];
+        if (code && far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], sat)) continue;
+        const LineVert *a = &v[tv[0]], *b = &v[tv[1]], *c = &v[tv[2]];
+        if (a->in & b->in & c->in) {
+          add_front(l, a, b, c, i, t, factor, w, h, sat);
+        } else {
+          const double *cc[3] = {a->clip, b->clip, c->clip};
+          add_clipped(l, cc, i, t, factor, w, h, sat);
+        }
       }
     }
     free(code);
