@@ -97,6 +97,20 @@ done
 cmp -s "$OUT/orbit/all_0000.png" "$OUT/orbit/all_0001.png" && s=0   # the camera moves
 if [ "$s" = 1 ]; then ok; else bad "orbit: frames differ from the same frames rendered alone"; fi
 
+# a kept mesh whose transform changes (tests/data/frames/turn.npr): the
+# world copies kept with the mesh serve only frames of their transform
+mkdir -p "$OUT/turn"
+"$SUMI" render "$ROOT/tests/data/frames/turn.npr" --frames 0:3 --quiet -o "$OUT/turn/all_####.png" || bad "the turn run failed"
+s=1
+for fr in 0 1 2 3; do
+  "$SUMI" render "$ROOT/tests/data/frames/turn.npr" --frames 0:3 --only $fr --quiet -o "$OUT/turn/one_####.png"
+  cmp -s "$OUT/turn/all_000$fr.png" "$OUT/turn/one_000$fr.png" || s=0
+done
+cmp -s "$OUT/turn/all_0000.png" "$OUT/turn/all_0002.png" || s=0   # the same transform
+cmp -s "$OUT/turn/all_0000.png" "$OUT/turn/all_0001.png" && s=0   # a mirror
+cmp -s "$OUT/turn/all_0000.png" "$OUT/turn/all_0003.png" && s=0   # a turn
+if [ "$s" = 1 ]; then ok; else bad "turn: frames differ from the same frames rendered alone"; fi
+
 # --resume: whole frames are skipped (their files untouched), one cut
 # short and one missing are rendered again, to the whole run's bytes
 mkdir -p "$OUT/resume"

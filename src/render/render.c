@@ -171,13 +171,56 @@ static int prepare_styles(const Scene *s, RenderFrame *f) {
 
 /* ---- prepare: objects ------------------------------------------------------ */
 
+/* Six times the signed volume the linear part of M gives a unit one
+** (its determinant): negative for a mirroring transform. */
+static double linear_det(const Mat4 *M) {
+  return v3_dot(v3(M->m[0][0], M->m[1][0], M->m[2][0]),
+                v3_cross(v3(M->m[0][1], M->m[1][1], M->m[2][1]), v3(M->m[0][2], M->m[1][2], M->m[2][2])));
+}
+
+/* A mesh's world copies for one transform, kept with a mesh kept across
+** frames (mesh_derived): a static object under a moving camera moves the
+** same points every frame. */
+typedef struct WorldCopy {
+  Mat4 M;
+  float (*pos)[3], (*nrm)[3], (*cnrm)[3][3];
+} WorldCopy;
+
+static const char world_tag;
+
+static void world_copy_free(void *data) {
+  WorldCopy *w = data;
+  free(w->pos);
+  free(w->nrm);
+  free(w->cnrm);
+  free(w);
+}
+
+/* Keep o's world copies with its mesh when it keeps such data and holds
+** none yet (another transform's stays: an object sharing the mesh may be
+** reading it); o->world_kept says the mesh owns them. */
+static void keep_world(RenderObject *o) {
+  if (!o->mesh->keeps_derived || mesh_derived(o->mesh, &world_tag)) return;
+  WorldCopy *w = xmalloc(sizeof *w);
+  *w = (WorldCopy){o->object_to_world, o->wpos, o->wnrm, o->wcnrm};
+  if (mesh_derived_set(o->mesh, &world_tag, w, world_copy_free)) o->world_kept = 1;
+  else free(w);
+}
+
 /* World positions and normals of o's mesh. Normals go through the inverse
 ** transpose; a mirroring transform (negative determinant) would turn the
 ** triangles clockwise, so their winding is swapped back and the topology
-** rebuilt. */
+** rebuilt. A kept mesh's copies for the same transform are used as they
+** are. */
 static void object_to_world(RenderObject *o) {
   Mesh *m = o->mesh;
   Mat4 M = o->object_to_world;
+  const WorldCopy *kept = mesh_derived(m, &world_tag);
+  if (kept && !memcmp(&kept->M, &M, sizeof M)) {
+    o->wpos = kept->pos, o->wnrm = kept->nrm, o->wcnrm = kept->cnrm;
+    o->world_kept = 1;
+    return;
+  }
   int ok;
   Mat4 nt = m4_transpose(m4_inverse(M, &ok));
   if (!ok) nt = M;
@@ -192,37 +235,38 @@ static void object_to_world(RenderObject *o) {
     for (int t = 0; t < m->ntris; t++)
       for (int k = 0; k < 3; k++) set3(o->wcnrm[t][k], v3_norm(m4_dir(nt, m->corner_nrm[t][k])));
   }
-  double det = v3_dot(v3(M.m[0][0], M.m[1][0], M.m[2][0]),
-                      v3_cross(v3(M.m[0][1], M.m[1][1], M.m[2][1]), v3(M.m[0][2], M.m[1][2], M.m[2][2])));
-  if (det < 0) {   /* a mirroring transform: keep the winding counter-clockwise */
-    o->subdiv_kept = 0;   /* changed: not the refinement the cache knows */
-    /* tagged creases (subdivision, CSG curves) survive the rebuild: edge k
-    ** of a turned triangle is its edge 2 - k before */
-    float (*sharp)[3] = m->edges ? xmalloc(((size_t)m->ntris + 1) * sizeof *sharp) : NULL;
-    for (int t = 0; sharp && t < m->ntris; t++)
-      for (int k = 0; k < 3; k++) sharp[t][k] = m->edges[m->tri_edges[t][k]].sharpness;
-    for (int t = 0; t < m->ntris; t++) {
-      int k = m->tri[t][1];
-      m->tri[t][1] = m->tri[t][2];
-      m->tri[t][2] = k;
-      if (o->wcnrm) {
-        float c[3];
-        memcpy(c, o->wcnrm[t][1], sizeof c);
-        memcpy(o->wcnrm[t][1], o->wcnrm[t][2], sizeof c);
-        memcpy(o->wcnrm[t][2], c, sizeof c);
-      }
-      if (m->corner_uv) {
-        Vec2 uv = m->corner_uv[t][1];
-        m->corner_uv[t][1] = m->corner_uv[t][2];
-        m->corner_uv[t][2] = uv;
-      }
-    }
-    mesh_build_edges(m);
-    for (int t = 0; sharp && t < m->ntris; t++)
-      for (int k = 0; k < 3; k++)
-        if (sharp[t][2 - k] > 0) m->edges[m->tri_edges[t][k]].sharpness = sharp[t][2 - k];
-    free(sharp);
+  if (linear_det(&M) >= 0) {
+    keep_world(o);
+    return;
   }
+  /* a mirroring transform: keep the winding counter-clockwise */
+  o->subdiv_kept = 0;   /* changed: not the refinement the cache knows */
+  /* tagged creases (subdivision, CSG curves) survive the rebuild: edge k
+  ** of a turned triangle is its edge 2 - k before */
+  float (*sharp)[3] = m->edges ? xmalloc(((size_t)m->ntris + 1) * sizeof *sharp) : NULL;
+  for (int t = 0; sharp && t < m->ntris; t++)
+    for (int k = 0; k < 3; k++) sharp[t][k] = m->edges[m->tri_edges[t][k]].sharpness;
+  for (int t = 0; t < m->ntris; t++) {
+    int k = m->tri[t][1];
+    m->tri[t][1] = m->tri[t][2];
+    m->tri[t][2] = k;
+    if (o->wcnrm) {
+      float c[3];
+      memcpy(c, o->wcnrm[t][1], sizeof c);
+      memcpy(o->wcnrm[t][1], o->wcnrm[t][2], sizeof c);
+      memcpy(o->wcnrm[t][2], c, sizeof c);
+    }
+    if (m->corner_uv) {
+      Vec2 uv = m->corner_uv[t][1];
+      m->corner_uv[t][1] = m->corner_uv[t][2];
+      m->corner_uv[t][2] = uv;
+    }
+  }
+  mesh_build_edges(m);
+  for (int t = 0; sharp && t < m->ntris; t++)
+    for (int k = 0; k < 3; k++)
+      if (sharp[t][2 - k] > 0) m->edges[m->tri_edges[t][k]].sharpness = sharp[t][2 - k];
+  free(sharp);
 }
 
 /* Which triangles show their back to the camera: the geometric normal
@@ -240,34 +284,55 @@ static void object_facing(RenderObject *o, const Camera *c) {
   }
 }
 
-/* A closed mesh (every edge between exactly two triangles), oriented
-** consistently (its two triangles run along an edge in opposite
-** directions) and outward (positive volume), lying wholly beyond the near
-** plane, shows only front faces: each view ray enters it through one. Its
-** back faces then need no drawing. */
-static int can_cull_back(const RenderObject *o, const Camera *c) {
-  const Mesh *m = o->mesh;
-  if (m->ntris == 0 || !m->edges || !m->tri_edges) return 0;
+/* What can_cull_back needs of the mesh alone, kept with a mesh kept
+** across frames (mesh_derived): whether it is closed (every edge between
+** exactly two triangles) and oriented consistently (its two triangles run
+** along an edge in opposite directions), and six times its signed volume
+** in object space (sum of p0 . (p1 x p2)). */
+typedef struct ClosedMesh {
+  int closed;
+  double volume;
+} ClosedMesh;
+
+static const char closed_tag;
+
+static ClosedMesh closed_mesh(const Mesh *m) {
+  ClosedMesh c = {0, 0};
   for (int e = 0; e < m->nedges; e++)
-    if (m->edges[e].f[1] < 0 || m->edges[e].nonmanifold) return 0;
+    if (m->edges[e].f[1] < 0 || m->edges[e].nonmanifold) return c;
   /* each triangle adds +1 to an edge it runs along from v[0] to v[1],
   ** -1 the other way: a consistent closed mesh leaves every sum at 0 */
   signed char *turn = xcalloc((size_t)m->nedges + 1, 1);
-  double volume = 0;   /* six times the signed volume: sum of p0 . (p1 x p2) */
   for (int t = 0; t < m->ntris; t++) {
     for (int k = 0; k < 3; k++) {
       int e = m->tri_edges[t][k];
       turn[e] += m->tri[t][k] == m->edges[e].v[0] ? 1 : -1;
     }
-    const float *p0 = o->wpos[m->tri[t][0]], *p1 = o->wpos[m->tri[t][1]], *p2 = o->wpos[m->tri[t][2]];
-    volume += (double)p0[0] * ((double)p1[1] * p2[2] - (double)p1[2] * p2[1]) +
-              (double)p0[1] * ((double)p1[2] * p2[0] - (double)p1[0] * p2[2]) +
-              (double)p0[2] * ((double)p1[0] * p2[1] - (double)p1[1] * p2[0]);
+    Vec3 p0 = m->pos[m->tri[t][0]], p1 = m->pos[m->tri[t][1]], p2 = m->pos[m->tri[t][2]];
+    c.volume += v3_dot(p0, v3_cross(p1, p2));
   }
-  int consistent = 1;
-  for (int e = 0; e < m->nedges && consistent; e++) consistent = turn[e] == 0;
+  c.closed = 1;
+  for (int e = 0; e < m->nedges && c.closed; e++) c.closed = turn[e] == 0;
   free(turn);
-  if (!consistent || !(volume > 0)) return 0;
+  return c;
+}
+
+/* A closed mesh, oriented consistently and outward (positive volume in
+** world space: the object-space volume times the transform's determinant,
+** a mirror turning the winding too), lying wholly beyond the near plane,
+** shows only front faces: each view ray enters it through one. Its back
+** faces then need no drawing. */
+static int can_cull_back(const RenderObject *o, const Camera *c) {
+  Mesh *m = o->mesh;
+  if (m->ntris == 0 || !m->edges || !m->tri_edges) return 0;
+  const ClosedMesh *kept = mesh_derived(m, &closed_tag);
+  ClosedMesh cm = kept ? *kept : closed_mesh(m);
+  if (!kept) {   /* kept for the next frames when the mesh is */
+    ClosedMesh *keep = xmalloc(sizeof *keep);
+    *keep = cm;
+    if (!mesh_derived_set(m, &closed_tag, keep, free)) free(keep);
+  }
+  if (!cm.closed || !(cm.volume * linear_det(&o->object_to_world) > 0)) return 0;
   double fx = c->forward.x, fy = c->forward.y, fz = c->forward.z;
   double limit = v3_dot(c->eye, c->forward) + c->znear * 1.001;
   for (int v = 0; v < m->nverts; v++) {   /* every vertex clearly in front of the near plane */
@@ -393,10 +458,13 @@ static void retessellate_adaptive(RenderFrame *f) {
     if (!is_adaptive_patches(o->src)) continue;
     f->ntriangles -= o->mesh->ntris;
     mesh_destroy(o->mesh);
-    free(o->wpos);
-    free(o->wnrm);
-    free(o->wcnrm);
+    if (!o->world_kept) {
+      free(o->wpos);
+      free(o->wnrm);
+      free(o->wcnrm);
+    }
     o->wcnrm = NULL;
+    o->world_kept = 0;
     tessellate_object(f, o, 0);
     f->ntriangles += o->mesh->ntris;
   }
@@ -492,9 +560,11 @@ void render_frame_free(RenderFrame *f) {
     } else if (o->mesh) {
       mesh_destroy(o->mesh);
     }
-    free(o->wpos);
-    free(o->wnrm);
-    free(o->wcnrm);
+    if (!o->world_kept) {   /* else the mesh's (keep_world) */
+      free(o->wpos);
+      free(o->wnrm);
+      free(o->wcnrm);
+    }
     free(o->backfacing);
     free(o->vcolor);
     shade_bokashi_free(o);

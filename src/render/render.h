@@ -183,6 +183,8 @@ typedef struct RenderObject {
   float (*wnrm)[3];            /* mesh->nverts world unit normals */
   float (*wcnrm)[3][3];        /* per triangle corner world normals where the mesh has
                                   hard edges (Mesh.corner_nrm), else NULL */
+  int world_kept;              /* wpos, wnrm and wcnrm are the mesh's, kept with it across
+                                  frames (mesh_derived): not the frame's to free */
   unsigned char *backfacing;   /* per triangle: its front faces away from the camera */
   int cull_back;               /* closed, outward and seen from outside: back faces
                                   are hidden, the rasterizer skips them */
