@@ -119,6 +119,7 @@ peers() {
       cp "$DIR/$s.scene.txt" "$DIR/$s.pov.scene.txt"
     fi
     i=1
+    rm -f "$DIR/$s.pov."[0-9]*.time "$DIR/$s.pov."[0-9]*.log
     while [ "$i" -le "$PEER_RUNS" ]; do
       /usr/bin/time -f "%e %M %U %S" -o "$DIR/$s.pov.$i.time" \
         "$POVRAY" +I"$DIR/$s.pov" +O"$DIR/$s.pov.png" +FN +W"$W" +H"$H" -D -A +WT1 -V >/dev/null 2>"$DIR/$s.pov.$i.log" \
@@ -134,6 +135,7 @@ peers() {
   fi
   if [ -n "$blender" ]; then
     i=1
+    rm -f "$DIR/$s.blender."[0-9]*.time "$DIR/$s.blender."[0-9]*.log
     while [ "$i" -le "$PEER_RUNS" ]; do
       /usr/bin/time -f "%e %M %U %S" -o "$DIR/$s.blender.$i.time" \
         "$BLENDER" -b --factory-startup --python-exit-code 1 -t 1 -P bench/bigmesh_blender.py -- \
@@ -156,6 +158,7 @@ for s in $SCENES; do
   if [ -n "$mesh" ] && [ ! -f "$mesh" ]; then echo "$s: $mesh missing (assimp-testmodels): skipped"; continue; fi
   "$SUMI" render "$npr" -o "$DIR/$s.png" --threads 1 --quiet   # warm up; must succeed
   threads="1 2"; [ "$PEERS" = only ] && threads=1
+  rm -f "$DIR/$s.t"[12].*.time "$DIR/$s.t"[12].*.stats   # an earlier run's extra RUNS must not join the medians
   for t in $threads; do
     i=1
     while [ "$i" -le "$RUNS" ]; do
