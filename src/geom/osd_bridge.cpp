@@ -67,6 +67,21 @@ int fail(char *err, size_t errlen, const char *fmt, ...) {
   return 0;
 }
 
+// An entry point's body, with every exception turned into 0 and a message
+// (none may cross into C). oom names what ran out of memory.
+template <class Body> int guarded(Body body, char *err, size_t errlen, const char *oom) {
+  try {
+    begin_call();
+    return body();
+  } catch (std::bad_alloc const &) {
+    return fail(err, errlen, "%s", oom);
+  } catch (std::exception const &e) {
+    return fail(err, errlen, "OpenSubdiv: %s", e.what());
+  } catch (...) {
+    return fail(err, errlen, "OpenSubdiv: unknown exception");
+  }
+}
+
 // Points as Far's primvar templates want them -------------------------------
 
 // (No initialiser: Far clears each point before it adds to it, so large
@@ -471,16 +486,8 @@ int eval_face(const SumiOsdMesh *m, const double *pos, int face, int npts, const
 extern "C" int sumi_osd_create(const SumiOsdTopology *topo, SumiOsdMesh **out, char *err,
                                size_t errlen) {
   *out = nullptr;
-  try {
-    begin_call();
-    return create(topo, out, err, errlen);
-  } catch (std::bad_alloc const &) {
-    return fail(err, errlen, "out of memory in OpenSubdiv");
-  } catch (std::exception const &e) {
-    return fail(err, errlen, "OpenSubdiv: %s", e.what());
-  } catch (...) {
-    return fail(err, errlen, "OpenSubdiv: unknown exception");
-  }
+  return guarded([&] { return create(topo, out, err, errlen); }, err, errlen,
+                 "out of memory in OpenSubdiv");
 }
 
 extern "C" void sumi_osd_destroy(SumiOsdMesh *m) {
@@ -493,52 +500,32 @@ extern "C" void sumi_osd_destroy(SumiOsdMesh *m) {
 extern "C" int sumi_osd_refine(const SumiOsdMesh *m, int level, const double *pos,
                                SumiOsdRefined *out, char *err, size_t errlen) {
   std::memset(out, 0, sizeof *out);
-  try {
-    begin_call();
-    return refine(m, level, pos, out, err, errlen);
-  } catch (std::bad_alloc const &) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "out of memory refining to level %d", level);
-  } catch (std::exception const &e) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "OpenSubdiv: %s", e.what());
-  } catch (...) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "OpenSubdiv: unknown exception");
-  }
+  char oom[64];
+  std::snprintf(oom, sizeof oom, "out of memory refining to level %d", level);
+  int ok = guarded([&] { return refine(m, level, pos, out, err, errlen); }, err, errlen, oom);
+  if (!ok) sumi_osd_refined_free(out);
+  return ok;
 }
 
 extern "C" int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t errlen) {
-  try {
-    begin_call();
-    std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(topo, err, errlen));
-    return r != nullptr;
-  } catch (std::bad_alloc const &) {
-    return fail(err, errlen, "out of memory in OpenSubdiv");
-  } catch (std::exception const &e) {
-    return fail(err, errlen, "OpenSubdiv: %s", e.what());
-  } catch (...) {
-    return fail(err, errlen, "OpenSubdiv: unknown exception");
-  }
+  return guarded(
+      [&] {
+        std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(topo, err, errlen));
+        return r != nullptr;
+      },
+      err, errlen, "out of memory in OpenSubdiv");
 }
 
 extern "C" int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
                                         int keep_ctrl, SumiOsdRefined *out, char *err,
                                         size_t errlen) {
   std::memset(out, 0, sizeof *out);
-  try {
-    begin_call();
-    return refine_topology(topo, level, pos, keep_ctrl, out, err, errlen);
-  } catch (std::bad_alloc const &) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "out of memory refining to level %d", level);
-  } catch (std::exception const &e) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "OpenSubdiv: %s", e.what());
-  } catch (...) {
-    sumi_osd_refined_free(out);
-    return fail(err, errlen, "OpenSubdiv: unknown exception");
-  }
+  char oom[64];
+  std::snprintf(oom, sizeof oom, "out of memory refining to level %d", level);
+  int ok = guarded([&] { return refine_topology(topo, level, pos, keep_ctrl, out, err, errlen); },
+                   err, errlen, oom);
+  if (!ok) sumi_osd_refined_free(out);
+  return ok;
 }
 
 extern "C" void sumi_osd_refined_free(SumiOsdRefined *r) {
@@ -572,14 +559,8 @@ extern "C" int sumi_osd_face_has_limit(const SumiOsdMesh *m, int face) {
 extern "C" int sumi_osd_eval_face(const SumiOsdMesh *m, const double *pos, int face, int npts,
                                   const double *uv, double *P, double *du, double *dv,
                                   int *regular, char *err, size_t errlen) {
-  try {
-    begin_call();
-    return eval_face(m, pos, face, npts, uv, P, du, dv, regular, err, errlen);
-  } catch (std::bad_alloc const &) {
-    return fail(err, errlen, "out of memory evaluating face %d", face);
-  } catch (std::exception const &e) {
-    return fail(err, errlen, "OpenSubdiv: %s", e.what());
-  } catch (...) {
-    return fail(err, errlen, "OpenSubdiv: unknown exception");
-  }
+  char oom[64];
+  std::snprintf(oom, sizeof oom, "out of memory evaluating face %d", face);
+  return guarded([&] { return eval_face(m, pos, face, npts, uv, P, du, dv, regular, err, errlen); },
+                 err, errlen, oom);
 }
