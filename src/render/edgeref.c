@@ -5,8 +5,7 @@
 ** it reaches (the nearest wins); then each sample found visible or hidden
 ** by the offset rule of edgeref.h. Work is split into bands of tile rows;
 ** each band sees every triangle in the same order, so the result never
-** depends on the number of workers. line_object_ids rasterizes the same
-** triangles at pixel centres for the SVG's filled regions.
+** depends on the number of workers.
 */
 #include "edgeref.h"
 
@@ -704,117 +703,4 @@ void line_ref_free(LineRef *ref) {
   free(ref->count);
   free(ref->visible);
   memset(ref, 0, sizeof *ref);
-}
-
-/* ---- object ids ----------------------------------------------------------- */
-
-/* The sides of a triangle as bounds on the pixel centres px of the row at
-** py. Side e (vertex e to e + 1) is a * px + b * py + c >= 0 inside; it
-** bounds px from below (a > 0) or above (a < 0) at m * py + q, and a
-** horizontal side (a = 0, or NaN) empties the rows where b * py + c < 0.
-** The sign of a is that of y[e] - y[e + 1] (times sgn), and the three
-** differences of a cycle cannot all have one sign, so at most two sides
-** bound from below and at most two from above. Those lists, in side order,
-** are padded with a bound that never binds (0 * py -/+ infinity), so a row
-** takes the max and min over two of each with no branch on the kinds. */
-typedef struct TriSides {
-  double lm[2], lq[2];   /* lower bounds: px >= lm * py + lq */
-  double um[2], uq[2];   /* upper bounds: px <= um * py + uq */
-  double hm[3], hq[3];   /* horizontal: the row is empty if hm * py + hq < 0 */
-  int nflat;             /* horizontal sides */
-} TriSides;
-
-static void tri_sides(const ScreenTri *t, double sgn, TriSides *s) {
-  int nl = 0, nu = 0, nh = 0;
-  for (int e = 0; e < 3; e++) {
-    int e1 = e == 2 ? 0 : e + 1;
-    double ex = t->x[e1] - t->x[e], ey = t->y[e1] - t->y[e];
-    double a = -sgn * ey, b = sgn * ex, c = sgn * (ey * t->x[e] - ex * t->y[e]);
-    if (a > 0) { s->lm[nl] = -b / a; s->lq[nl++] = -c / a; }
-    else if (a < 0) { s->um[nu] = -b / a; s->uq[nu++] = -c / a; }
-    else { s->hm[nh] = b; s->hq[nh++] = c; }
-  }
-  for (; nl < 2; nl++) { s->lm[nl] = 0; s->lq[nl] = -INFINITY; }
-  for (; nu < 2; nu++) { s->um[nu] = 0; s->uq[nu] = INFINITY; }
-  s->nflat = nh;
-}
-
-/* Narrow [*lo, *hi] to the pixel centres of the row at py inside the
-** triangle; 0 when none are. */
-static inline int tri_row(const TriSides *s, double py, double *lo, double *hi) {
-  double l = *lo, h = *hi;
-  for (int e = 0; e < 2; e++) {
-    double le = s->lm[e] * py + s->lq[e], he = s->um[e] * py + s->uq[e];
-    l = le > l ? le : l;
-    h = he < h ? he : h;
-  }
-  *lo = l;
-  *hi = h;
-  for (int e = 0; e < s->nflat; e++)
-    if (s->hm[e] * py + s->hq[e] < 0) return 0;
-  return l <= h;
-}
-
-/* The pixel columns xa..xb (clamped to 0..xhi) whose centres x + 0.5 lie
-** in [lo, hi] (lo >= 0.5); 0 when there are none. */
-static int centre_columns(double lo, double hi, int xhi, int *xa, int *xb) {
-  double a0 = lo - 0.5, b0 = hi - 0.5;   /* a0 >= 0, so truncation floors */
-  *xa = (int)a0;
-  *xb = (int)b0;
-  if (*xa < a0) (*xa)++;
-  if (*xb > xhi) *xb = xhi;
-  return *xa <= *xb;
-}
-
-/* A dense image of nearness and object ids being rasterized. */
-typedef struct IdImage { int w, h; float *near; int32_t *ids; const TriList *tris; int nbands; } IdImage;
-
-/* Rasterize t into rows [y0, y1) of im: pixel centres inside (edges
-** included) take its object where it is nearer than what is there. */
-static void raster_tri(const ScreenTri *t, IdImage *im, int y0, int y1) {
-  int ya = t->ymin > y0 ? t->ymin : y0, yb = t->ymax < y1 - 1 ? t->ymax : y1 - 1;
-  if (ya > yb) return;
-  double x0 = t->x[0], y0d = t->y[0];
-  double ax = t->x[1] - x0, ay = t->y[1] - y0d, bx = t->x[2] - x0, by = t->y[2] - y0d;
-  double det = ax * by - ay * bx;
-  double an = t->n[1] - t->n[0], bn = t->n[2] - t->n[0];
-  double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
-  TriSides s;
-  tri_sides(t, det > 0 ? 1 : -1, &s);
-  for (int y = ya; y <= yb; y++) {
-    double py = y + 0.5, lo = 0.5, hi = im->w - 0.5;
-    int xa, xb;
-    if (!tri_row(&s, py, &lo, &hi) || !centre_columns(lo, hi, im->w - 1, &xa, &xb)) continue;
-    double n0 = t->n[0] + dndx * (xa + 0.5 - x0) + dndy * (py - y0d);
-    float *near = im->near + (size_t)y * im->w;
-    int32_t *ids = im->ids + (size_t)y * im->w;
-    for (int x = xa; x <= xb; x++) {
-      float nf = (float)(n0 + dndx * (x - xa));
-      if (nf > near[x]) { near[x] = nf; ids[x] = t->obj; }
-    }
-  }
-}
-
-static void ids_band(void *ctx, int band, int worker) {
-  IdImage *im = ctx;
-  int y0 = (int)((long long)im->h * band / im->nbands), y1 = (int)((long long)im->h * (band + 1) / im->nbands);
-  for (int i = 0; i < im->tris->n; i++) {
-    const ScreenTri *t = &im->tris->t[i];
-    if (t->ymax >= y0 && t->ymin < y1) raster_tri(t, im, y0, y1);
-  }
-}
-
-int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int width, int height,
-                         int threads) {
-  size_t npx = (size_t)width * height;
-  IdImage im = {width, height, xcalloc(npx ? npx : 1, sizeof(float)), xmalloc((npx ? npx : 1) * sizeof(int32_t)),
-                NULL, band_count(threads, height)};
-  for (size_t i = 0; i < npx; i++) im.ids[i] = -1;
-  TriList tris = {0, 0, NULL};
-  collect_tris(&tris, edges, objs, width, height, NULL);
-  im.tris = &tris;
-  line_parallel(im.nbands, threads, ids_band, &im);
-  free(tris.t);
-  free(im.near);
-  return im.ids;
 }

@@ -88,11 +88,4 @@ static inline const unsigned char *line_ref_vis(const LineRef *ref, int id) {
   return ref->vis + ref->step0[id - 1];
 }
 
-/* Rasterize the meshes of objs (depth only, no offset) into a width x
-** height buffer of object indices (-1 = background), nearest wins; the
-** vertices are those of edges (projected at that size). For the SVG's
-** filled regions. The caller frees the result. */
-int32_t *line_object_ids(const LineEdges *edges, const LineObject *objs, int width, int height,
-                         int threads);
-
 #endif
