@@ -29,6 +29,10 @@
 #include <string>
 #include <vector>
 
+extern "C" {
+#include "../base/tasks.h"
+}
+
 using namespace OpenSubdiv;
 
 namespace {
@@ -307,29 +311,230 @@ std::vector<float> tagged_edges(SumiOsdTopology const &t, Far::TopologyRefiner c
   return tag;
 }
 
-// Limit positions (lim) and unit limit normals (nrm, zero where the
-// tangents give none) of the last level's points, each 3 * n doubles.
-// The first tangents are made in nrm itself, each turned into its normal
-// in place (the same arithmetic, 24 bytes a point less at the peak).
+// Limit masks ------------------------------------------------------------------
+
+// The unit normal a x b into n (0 when it has no length); n may be a.
+void unit_normal(double const *a, double const *b, double *n) {
+  double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  int ok = len > 0 && std::isfinite(len);
+  for (int k = 0; k < 3; k++) n[k] = ok ? c[k] / len : 0;
+}
+
+// One vertex of a level as Sdc's limit mask queries read it.
+struct Hood {
+  Far::TopologyLevel const *level;
+  Far::Index v;
+  int ne, nf;
+  int GetNumEdges() const { return ne; }
+  int GetNumFaces() const { return nf; }
+  float GetSharpness() const { return level->GetVertexSharpness(v); }
+  float *GetSharpnessPerEdge(float s[]) const {
+    Far::ConstIndexArray e = level->GetVertexEdges(v);
+    for (int i = 0; i < ne; i++) s[i] = level->GetEdgeSharpness(e[i]);
+    return s;
+  }
+};
+
+// One mask (vertex, edge and face weights) in Sdc's generic MASK interface.
+struct Weights {
+  typedef double Weight;
+  double *vw = nullptr, *ew = nullptr, *fw = nullptr;
+  int nv = 0, ne = 0, nf = 0;
+  int GetNumVertexWeights() const { return nv; }
+  int GetNumEdgeWeights() const { return ne; }
+  int GetNumFaceWeights() const { return nf; }
+  void SetNumVertexWeights(int n) { nv = n; }
+  void SetNumEdgeWeights(int n) { ne = n; }
+  void SetNumFaceWeights(int n) { nf = n; }
+  double &VertexWeight(int i) { return vw[i]; }
+  double &EdgeWeight(int i) { return ew[i]; }
+  double &FaceWeight(int i) { return fw[i]; }
+  double VertexWeight(int i) const { return vw[i]; }
+  double EdgeWeight(int i) const { return ew[i]; }
+  double FaceWeight(int i) const { return fw[i]; }
+  bool AreFaceWeightsForFaceCenters() const { return false; }
+  void SetFaceWeightsForFaceCenters(bool) {}
+};
+
+// A vertex's limit masks (position and the two tangents) for up to maxv
+// edges and faces, laid out as Far's Limit lays them out; `extra` weights
+// past the end for a non-manifold vertex with more (whose weights then run
+// on into the next mask's, as in Far).
+struct LimitMasks {
+  std::vector<double> buf;
+  Weights pos, tan1, tan2;
+  explicit LimitMasks(int maxv, int extra = 0) : buf(3 * (1 + 2 * (size_t)maxv) + extra) {
+    Weights *m[3] = {&pos, &tan1, &tan2};
+    for (int k = 0; k < 3; k++) {
+      double *b = buf.data() + k * (1 + 2 * (size_t)maxv);
+      m[k]->vw = b;
+      m[k]->ew = b + 1;
+      m[k]->fw = b + 1 + maxv;
+    }
+  }
+};
+
+// Valences whose smooth masks are made once for the whole level.
+constexpr int SMOOTH_KEPT = 16;
+
+// The limit of the last level of r: positions (lim) and unit normals (nrm,
+// zero where the tangents give none) of points src, 3 doubles a point, for
+// vertices [v0, v1). The same arithmetic as Far::PrimvarRefiner::Limit
+// (the same Sdc masks, applied in the same order, faces first), so the same
+// bits, but over a range of vertices: ranges run on the task pool. A smooth
+// vertex's masks depend on its valence alone: those up to SMOOTH_KEPT are
+// made once, in smooth[valence].
+template <Sdc::SchemeType SCHEME>
+struct LimitJob {
+  Far::TopologyLevel const *level;
+  Sdc::Scheme<SCHEME> scheme;
+  int maxv;
+  std::vector<LimitMasks> smooth;
+  const Point *src;
+  double *lim, *nrm;
+
+  LimitJob(Far::TopologyRefiner const &r, const Point *p, double *l, double *n)
+      : level(&r.GetLevel(r.GetMaxLevel())), scheme(r.GetSchemeOptions()),
+        maxv(r.getLevel(r.GetMaxLevel()).getMaxValence()), src(p), lim(l), nrm(n) {
+    smooth.emplace_back(0);   // valence 0 is never kept (its masks read outside their weights)
+    for (int k = 1; k <= std::min(maxv, SMOOTH_KEPT); k++) {
+      smooth.emplace_back(k);
+      Hood h{level, 0, k, k};
+      LimitMasks &m = smooth.back();
+      scheme.ComputeVertexLimitMask(h, m.pos, m.tan1, m.tan2, Sdc::Crease::RULE_SMOOTH);
+    }
+  }
+
+  // The masks of vertex v (ne edges, nf faces): kept ones, or made in own
+  // (or in wide, for a vertex with more edges or faces than maxv).
+  LimitMasks const *masks_of(int v, int ne, int nf, LimitMasks &own,
+                             std::unique_ptr<LimitMasks> &wide) const {
+    Sdc::Crease::Rule rule = level->GetVertexRule(v);
+    if ((rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART) && ne == nf &&
+        nf >= 1 && nf <= SMOOTH_KEPT)
+      return &smooth[nf];
+    LimitMasks *into = &own;
+    if (ne > maxv || nf > maxv) {
+      wide.reset(new LimitMasks(maxv, ne + nf));
+      into = wide.get();
+    }
+    Hood h{level, v, ne, nf};
+    scheme.ComputeVertexLimitMask(h, into->pos, into->tan1, into->tan2, rule);
+    return into;
+  }
+
+  // The points the masks weigh: the far end of each edge (ei), the corner
+  // opposite v in each face (fi, when a mask has face weights).
+  void neighbours(int v, LimitMasks const &m, Far::Index *ei, Far::Index *fi) const {
+    Far::ConstIndexArray ve = level->GetVertexEdges(v);
+    for (int i = 0; i < ve.size(); i++) {
+      Far::ConstIndexArray ev = level->GetEdgeVertices(ve[i]);
+      ei[i] = ev[0] == v ? ev[1] : ev[0];
+    }
+    if (!m.pos.nf && !m.tan1.nf) return;
+    Far::ConstIndexArray vf = level->GetVertexFaces(v);
+    Far::ConstLocalIndexArray in = level->GetVertexFaceLocalIndices(v);
+    for (int i = 0; i < vf.size(); i++) {
+      Far::ConstIndexArray fv = level->GetFaceVertices(vf[i]);
+      int opp = in[i] + 2;
+      if (opp >= fv.size()) opp -= fv.size();
+      fi[i] = fv[opp];
+    }
+  }
+
+  // Far's order: face weights, then edge weights, then the vertex's.
+  void apply(int v, LimitMasks const &m, Far::Index const *ei, Far::Index const *fi, Point &p,
+             Point &t1, Point &t2) const {
+    for (int i = 0; i < m.pos.nf; i++) p.AddWithWeight(src[fi[i]], m.pos.fw[i]);
+    for (int i = 0; i < m.pos.ne; i++) p.AddWithWeight(src[ei[i]], m.pos.ew[i]);
+    p.AddWithWeight(src[v], m.pos.vw[0]);
+    for (int i = 0; i < m.tan1.nf; i++) {
+      t1.AddWithWeight(src[fi[i]], m.tan1.fw[i]);
+      t2.AddWithWeight(src[fi[i]], m.tan2.fw[i]);
+    }
+    for (int i = 0; i < m.tan1.ne; i++) {
+      t1.AddWithWeight(src[ei[i]], m.tan1.ew[i]);
+      t2.AddWithWeight(src[ei[i]], m.tan2.ew[i]);
+    }
+    t1.AddWithWeight(src[v], m.tan1.vw[0]);
+    t2.AddWithWeight(src[v], m.tan2.vw[0]);
+  }
+
+  void run(int v0, int v1) const {
+    LimitMasks own(maxv);
+    std::unique_ptr<LimitMasks> wide;
+    std::vector<Far::Index> index(2 * (size_t)maxv + 1);
+    for (int v = v0; v < v1; v++) {
+      int ne = level->GetVertexEdges(v).size(), nf = level->GetVertexFaces(v).size();
+      Point p, t1, t2;
+      p.Clear();
+      t1.Clear();
+      t2.Clear();
+      if (ne == 0) {   // no neighbourhood: the point as it is, no normal
+        p.AddWithWeight(src[v], 1.0);
+      } else {
+        LimitMasks const *m = masks_of(v, ne, nf, own, wide);
+        if (index.size() < (size_t)(ne + nf)) index.resize(ne + nf);
+        neighbours(v, *m, index.data(), index.data() + ne);
+        apply(v, *m, index.data(), index.data() + ne, p, t1, t2);
+      }
+      store(v, p, t1, t2);
+    }
+  }
+
+  void store(int v, Point const &p, Point const &t1, Point const &t2) const {
+    for (int k = 0; k < 3; k++) lim[3 * v + k] = p.p[k];
+    unit_normal(t1.p, t2.p, nrm + 3 * v);
+  }
+};
+
+// Vertices one limit task takes.
+constexpr int LIMIT_CHUNK = 16384;
+
+template <Sdc::SchemeType SCHEME>
+void limit_task(void *ctx, int k) {
+  LimitJob<SCHEME> const *job = static_cast<LimitJob<SCHEME> const *>(ctx);
+  int n = job->level->GetNumVertices();
+  job->run(k * LIMIT_CHUNK, std::min(n, (k + 1) * LIMIT_CHUNK));
+}
+
+template <Sdc::SchemeType SCHEME>
+void limit_on_pool(Far::TopologyRefiner const &r, const Point *src, int threads, double *lim,
+                   double *nrm) {
+  LimitJob<SCHEME> job(r, src, lim, nrm);
+  int n = job.level->GetNumVertices();
+  tasks_run((n + LIMIT_CHUNK - 1) / LIMIT_CHUNK, threads, limit_task<SCHEME>, &job);
+}
+
+// Limit positions (lim) and unit limit normals (nrm) of the last level's
+// points, each 3 * n doubles, on up to `threads` threads.
 void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
-                  SumiOsdScheme scheme, double *lim, double *nrm) {
+                  SumiOsdScheme scheme, int threads, double *lim, double *nrm) {
   size_t n = last.size();
   if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
     std::memset(nrm, 0, 3 * n * sizeof(double));
     if (n) std::memcpy(lim, last.data(), n * sizeof(Point));
     return;
   }
+  if (scheme == SUMI_OSD_LOOP) limit_on_pool<Sdc::SCHEME_LOOP>(r, last.data(), threads, lim, nrm);
+  else limit_on_pool<Sdc::SCHEME_CATMARK>(r, last.data(), threads, lim, nrm);
+}
+
+// OpenSubdiv's own limit of the same points (Far::PrimvarRefiner::Limit),
+// the reference limit_points is held to in the tests.
+void limit_points_far(Far::TopologyRefiner const &r, std::vector<Point> const &last,
+                      SumiOsdScheme scheme, double *lim, double *nrm) {
+  size_t n = last.size();
+  if (scheme == SUMI_OSD_BILINEAR) {
+    limit_points(r, last, scheme, 1, lim, nrm);
+    return;
+  }
   std::vector<Point> t2(n);
   Far::PrimvarRefinerReal<double> pr(r);
   PointOut out{lim}, t1{nrm};
   pr.Limit(last, out, t1, t2);
-  for (size_t i = 0; i < n; i++) {
-    double const *a = nrm + 3 * i, *b = t2[i].p;
-    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    int ok = len > 0 && std::isfinite(len);
-    for (int k = 0; k < 3; k++) nrm[3 * i + k] = ok ? c[k] / len : 0;
-  }
+  for (size_t i = 0; i < n; i++) unit_normal(nrm + 3 * i, t2[i].p, nrm + 3 * i);
 }
 
 // The level's points from the base positions, level by level (double
@@ -421,18 +626,20 @@ void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, Sumi
 
 // Refines r (t's base refiner) in place and fills *out (zeroed by the
 // caller, who frees it if this throws midway); out->ctrl only with
-// keep_ctrl.
+// keep_ctrl. The limit is OpenSubdiv's own Far::PrimvarRefiner::Limit with
+// far_limit, else limit_points' on up to `threads` threads.
 void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, const double *pos,
-               int keep_ctrl, SumiOsdRefined *out) {
+               int keep_ctrl, int threads, int far_limit, SumiOsdRefined *out) {
   Far::TopologyRefiner::UniformOptions uo(level);
-  uo.fullTopologyInLastLevel = true;  // Limit needs it, and the crease tags the last edges
+  uo.fullTopologyInLastLevel = true;  // the limit needs it, and the crease tags the last edges
   r.RefineUniform(uo);
   std::vector<Point> ctrl = interpolate(r, pos, t.nverts);
   out->level = level;
   out->nverts = (int)ctrl.size();
   out->limit = alloc_points(ctrl.size());
   out->normal = alloc_points(ctrl.size());
-  limit_points(r, ctrl, t.scheme, out->limit, out->normal);
+  if (far_limit) limit_points_far(r, ctrl, t.scheme, out->limit, out->normal);
+  else limit_points(r, ctrl, t.scheme, threads, out->limit, out->normal);
   if (keep_ctrl) out->ctrl = copy_points(ctrl);
   std::vector<Point>().swap(ctrl);   // gone before the topology is copied out (peak memory)
   collect_faces(r, out);
@@ -445,16 +652,16 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
   SumiOsdTopology t = topology_of(*m);
   std::unique_ptr<Far::TopologyRefiner> r(make_refiner(t));
   if (!r) return fail(err, errlen, "OpenSubdiv rejected the mesh: %s", osd_message.c_str());
-  refine_in(*r, t, level, pos, 1, out);
+  refine_in(*r, t, level, pos, 1, 1, 0, out);
   return 1;
 }
 
 int refine_topology(const SumiOsdTopology *t, int level, const double *pos, int keep_ctrl,
-                    SumiOsdRefined *out, char *err, size_t errlen) {
+                    int threads, int far_limit, SumiOsdRefined *out, char *err, size_t errlen) {
   std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(t, err, errlen));
   if (!r) return 0;
   if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
-  refine_in(*r, *t, level, pos, keep_ctrl, out);
+  refine_in(*r, *t, level, pos, keep_ctrl, threads, far_limit, out);
   return 1;
 }
 
@@ -516,16 +723,32 @@ extern "C" int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t err
       err, errlen, "out of memory in OpenSubdiv");
 }
 
-extern "C" int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
-                                        int keep_ctrl, SumiOsdRefined *out, char *err,
-                                        size_t errlen) {
+// sumi_osd_refine_topology, with the bridge's limit or (far_limit) with Far's.
+static int refine_topology_call(const SumiOsdTopology *topo, int level, const double *pos,
+                                int keep_ctrl, int threads, int far_limit, SumiOsdRefined *out,
+                                char *err, size_t errlen) {
   std::memset(out, 0, sizeof *out);
   char oom[64];
   std::snprintf(oom, sizeof oom, "out of memory refining to level %d", level);
-  int ok = guarded([&] { return refine_topology(topo, level, pos, keep_ctrl, out, err, errlen); },
-                   err, errlen, oom);
+  int ok = guarded(
+      [&] {
+        return refine_topology(topo, level, pos, keep_ctrl, threads, far_limit, out, err, errlen);
+      },
+      err, errlen, oom);
   if (!ok) sumi_osd_refined_free(out);
   return ok;
+}
+
+extern "C" int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
+                                        int keep_ctrl, int threads, SumiOsdRefined *out,
+                                        char *err, size_t errlen) {
+  return refine_topology_call(topo, level, pos, keep_ctrl, threads, 0, out, err, errlen);
+}
+
+extern "C" int sumi_osd_refine_far_limit(const SumiOsdTopology *topo, int level,
+                                         const double *pos, SumiOsdRefined *out, char *err,
+                                         size_t errlen) {
+  return refine_topology_call(topo, level, pos, 1, 1, 1, out, err, errlen);
 }
 
 extern "C" void sumi_osd_refined_free(SumiOsdRefined *r) {

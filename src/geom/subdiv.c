@@ -295,7 +295,7 @@ Mesh *subdiv_mesh_ex(const SceneGeometry *g, SumiOsdBoundary boundary, SumiOsdRe
   if (!subdiv_topology(g, boundary, &st, err, errlen)) return NULL;
   SumiOsdRefined r;
   int ok = sumi_osd_refine_topology(&st.topo, g->subdiv_level, (const double *)g->verts,
-                                    refined != NULL, &r, err, errlen);
+                                    refined != NULL, threads, &r, err, errlen);
   subdiv_topology_free(&st);
   if (!ok) return NULL;
   Mesh *m = mesh_alloc(r.nverts, triangle_count(&r));   /* every entry filled below */

@@ -590,6 +590,120 @@ TEST(subdiv_open_plane_boundary) {
   }
 }
 
+/* The bridge's limit (positions and normals, on 1 and 3 threads) is Far's
+** own Far::PrimvarRefiner::Limit of the same refinement, bit for bit. */
+static int limit_is_far_limit(const SceneGeometry *g, SumiOsdBoundary boundary) {
+  char err[256];
+  SubdivTopology st;
+  if (!subdiv_topology(g, boundary, &st, err, sizeof err)) return 0;
+  SumiOsdRefined far, ours[2];
+  const double *pos = (const double *)g->verts;
+  int ok = sumi_osd_refine_far_limit(&st.topo, g->subdiv_level, pos, &far, err, sizeof err);
+  for (int k = 0; k < 2; k++) {
+    int threads = k ? 3 : 1;
+    if (!sumi_osd_refine_topology(&st.topo, g->subdiv_level, pos, 0, threads, &ours[k], err,
+                                  sizeof err)) {
+      ok = 0;
+      continue;
+    }
+    size_t bytes = 3 * sizeof(double) * (size_t)far.nverts;
+    ok = ok && ours[k].nverts == far.nverts && !memcmp(ours[k].limit, far.limit, bytes) &&
+         !memcmp(ours[k].normal, far.normal, bytes);
+    sumi_osd_refined_free(&ours[k]);
+  }
+  if (!ok) fprintf(stderr, "limit differs from Far's: %s\n", err);
+  sumi_osd_refined_free(&far);
+  subdiv_topology_free(&st);
+  return ok;
+}
+
+TEST(subdiv_limit_is_far_limit) {
+  /* The cube, moved off its round numbers, with a semi-sharp and a sharp
+  ** crease and a corner; the open grid under each boundary rule; an
+  ** octahedron and an open fan under loop; a cone of 20 triangles (a
+  ** valence the masks are not kept for); the non-manifold fin. */
+  Vec3 cv[8];
+  for (int i = 0; i < 8; i++)
+    cv[i] = v3_add(CUBE_V[i], v3(0.1 * sin(3.0 * i), 0.07 * cos(5.0 * i), 0.03 * i));
+  struct { int a, b; double sharpness; } creases[3] = {{4, 5, 1.5}, {5, 6, 10}, {0, 1, 0.4}};
+  struct { int v; double sharpness; } corner[1] = {{3, 2.5}};
+  for (int level = 1; level <= 3; level++) {
+    SceneGeometry g = cube(level, creases, 3);
+    g.verts = cv;
+    g.ncorners = 1;
+    g.corners = (void *)corner;
+    CHECK(limit_is_far_limit(&g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  }
+  Vec3 v[16];
+  int start[10], index[36];
+  for (int j = 0; j < 4; j++)
+    for (int i = 0; i < 4; i++) v[4 * j + i] = v3(i + 0.1 * j, j, sin(i + 2.0 * j));
+  for (int f = 0; f < 9; f++) {
+    int b = 4 * (f / 3) + f % 3;
+    start[f] = 4 * f;
+    index[4 * f] = b; index[4 * f + 1] = b + 1; index[4 * f + 2] = b + 5; index[4 * f + 3] = b + 4;
+  }
+  start[9] = 36;
+  SceneGeometry grid;
+  memset(&grid, 0, sizeof grid);
+  grid.kind = GEOM_MESH;
+  grid.nverts = 16; grid.verts = v; grid.nfaces = 9; grid.face_start = start; grid.face_index = index;
+  grid.subdiv_level = 3;
+  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_EDGE_ONLY));
+  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_NONE));
+  /* the grid as triangles, loop: an open mesh */
+  int tstart[19], tindex[54];
+  for (int f = 0; f < 9; f++) {
+    const int *q = index + 4 * f;
+    int t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+    memcpy(tindex + 6 * f, t, sizeof t);
+  }
+  for (int t = 0; t <= 18; t++) tstart[t] = 3 * t;
+  SceneGeometry fan = grid;
+  fan.nfaces = 18; fan.face_start = tstart; fan.face_index = tindex;
+  fan.subdiv_scheme = "loop";
+  CHECK(limit_is_far_limit(&fan, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  Vec3 ov[6] = {{1, 0.1, 0}, {-1, 0, 0.2}, {0, 1, 0}, {0.3, -1, 0}, {0, 0, 1}, {0, 0.1, -1}};
+  int ostart[9] = {0, 3, 6, 9, 12, 15, 18, 21, 24};
+  int oindex[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  SceneGeometry oct;
+  memset(&oct, 0, sizeof oct);
+  oct.kind = GEOM_MESH;
+  oct.nverts = 6; oct.verts = ov; oct.nfaces = 8; oct.face_start = ostart; oct.face_index = oindex;
+  oct.subdiv_level = 3;
+  oct.subdiv_scheme = "loop";
+  CHECK(limit_is_far_limit(&oct, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  enum { N = 20 };
+  Vec3 kv[N + 1];
+  int kstart[N + 1], kindex[3 * N];
+  kv[N] = v3(0, 0, 1);
+  for (int i = 0; i < N; i++) {
+    kv[i] = v3(cos(2 * M_PI * i / N), sin(2 * M_PI * i / N), 0.1 * (i % 3));
+    kstart[i] = 3 * i;
+    kindex[3 * i] = N; kindex[3 * i + 1] = i; kindex[3 * i + 2] = (i + 1) % N;
+  }
+  kstart[N] = 3 * N;
+  SceneGeometry cone;
+  memset(&cone, 0, sizeof cone);
+  cone.kind = GEOM_MESH;
+  cone.nverts = N + 1; cone.verts = kv; cone.nfaces = N; cone.face_start = kstart; cone.face_index = kindex;
+  cone.subdiv_level = 2;
+  CHECK(limit_is_far_limit(&cone, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  cone.subdiv_scheme = "loop";
+  CHECK(limit_is_far_limit(&cone, SUMI_OSD_BOUNDARY_EDGE_ONLY));
+  static Vec3 fv[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                       {1, -1, 0}, {0, -1, 0}, {1, 0, 1}, {0, 0, 1}};
+  static int fstart[4] = {0, 4, 8, 12};
+  static int findex[12] = {0, 1, 2, 3, 1, 0, 5, 4, 0, 1, 6, 7};
+  SceneGeometry fin;
+  memset(&fin, 0, sizeof fin);
+  fin.kind = GEOM_MESH;
+  fin.nverts = 8; fin.verts = fv; fin.nfaces = 3; fin.face_start = fstart; fin.face_index = findex;
+  fin.subdiv_level = 2;
+  CHECK(limit_is_far_limit(&fin, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+}
+
 /* ---- the refinement reference -------------------------------------------------- */
 
 /* Two bumpy patches side by side, sharing the border u = 1 / u = 0. */
@@ -721,6 +835,7 @@ int main(void) {
   RUN(subdiv_loop_and_bilinear);
   RUN(subdiv_errors);
   RUN(subdiv_open_plane_boundary);
+  RUN(subdiv_limit_is_far_limit);
   RUN(refine_uniform_converges);
   RUN(refine_evaluation_exact);
   RUN(refine_adaptive_within_tolerance);
