@@ -117,6 +117,27 @@ void *xcalloc_huge(size_t n) {
   return memset(xmalloc_huge(n), 0, n);
 }
 
+/* A mapping of n bytes: whole huge pages, so that the kernel places it on
+** a huge page's boundary. */
+static size_t zeroed_size(size_t n) {
+  const size_t huge = (size_t)2 << 20;
+  return (n + huge - 1) & ~(huge - 1);
+}
+
+void *mem_zeroed(size_t n) {
+  if (n < ((size_t)2 << 20)) return xcalloc(1, n);
+  void *p = mmap(NULL, zeroed_size(n), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) sumi_fatal("out of memory (asked for %zu bytes)", n);
+  mem_advise_huge(p, zeroed_size(n));
+  return p;
+}
+
+void mem_zeroed_free(void *p, size_t n) {
+  if (!p) return;
+  if (n < ((size_t)2 << 20)) free(p);
+  else munmap(p, zeroed_size(n));
+}
+
 /* ---- arena ---------------------------------------------------------- */
 
 struct ArenaChunk {

@@ -29,6 +29,12 @@ void mem_populate(void *p, size_t n);
 void *xmalloc_huge(size_t n);
 /* The same, zeroed: a big table. */
 void *xcalloc_huge(size_t n);
+/* n zero bytes straight from the system, freed with mem_zeroed_free(p, n)
+** (the same n): its pages are cleared only as they are first written, so
+** a big plane of which a frame writes only a part costs only that part.
+** From 2 MB up it asks for huge pages, as mem_advise_huge. */
+void *mem_zeroed(size_t n);
+void mem_zeroed_free(void *p, size_t n);
 
 /* Set malloc up for a program whose stages allocate and free big buffers
 ** one after the other: freed memory stays in the heap for the next stage

@@ -33,8 +33,6 @@ typedef struct InkSet {
   int uniform;           /* every ink style has the same colour */
   int box;               /* the frame's box side: the largest a filtered style asks for */
   int reach;             /* the most pixels ink can run: the largest bound on passes */
-  InkCell *cells;        /* per style, INK_MAX_TONES of them: the cell a quantised pixel of each
-                            level starts with (written whole, a copy) */
 } InkSet;
 
 static void ink_set(const RenderFrame *f, InkSet *set) {
@@ -54,11 +52,6 @@ static void ink_set(const RenderFrame *f, InkSet *set) {
     if (k->stage >= INK_STAGE_DIFFUSED && k->passes > set->reach) set->reach = k->passes;
     set->n++;
   }
-  set->cells = xcalloc((size_t)set->n * INK_MAX_TONES + 1, sizeof *set->cells);
-  for (int i = 0; i < set->n; i++)
-    for (int l = 0; l < set->styles[i].ntones; l++)   /* the washes are wet, the paper level dry */
-      set->cells[i * INK_MAX_TONES + l] = (InkCell){set->styles[i].ink[l], l > 0 ? set->styles[i].water : 0, 0, 0,
-                                                    (uint8_t)l, 0};
   set->of_object = xmalloc(((size_t)f->nobjects + 1) * sizeof *set->of_object);
   for (int i = 0; i < f->nobjects; i++)
     set->of_object[i] = f->objects[i].vink ? of_style[f->objects[i].style - f->styles] : -1;
@@ -68,7 +61,6 @@ static void ink_set(const RenderFrame *f, InkSet *set) {
 static void ink_set_free(InkSet *set) {
   free(set->styles);
   free(set->of_object);
-  free(set->cells);
 }
 
 int canvas_margin(const RenderFrame *f) {
@@ -105,46 +97,29 @@ typedef struct InkArea {
   int any_off;           /* some pixel is off the canvas */
 } InkArea;
 
+/* The canvas starts as bare paper: only the pixels that are not are
+** written, ink pixels and those off the canvas. */
+
 /* Pixel p of style index si takes grey's ink (its quantised tone's, or at
-** the Gouraud stage the grey's own), its level, and its wash's water. */
+** the Gouraud stage the grey's own) and its level; its water follows from
+** them. */
 static void put_ink(InkCanvas *c, const InkSet *set, size_t p, int si, float grey, InkArea *a, int x,
                     int y) {
   const InkStyle *k = &set->styles[si];
   int label = ink_label(k, grey);
-  float ink = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
   c->level[p] = (uint8_t)label;
-  c->style[p] = (uint16_t)si;
-  c->ink[p] = ink;
-  /* the washes are wet, the paper level dry */
-  c->cell[p] = (InkCell){ink, label > 0 ? k->water : 0, 0, 0, (uint8_t)label, 0};
+  if (c->style) c->style[p] = (uint16_t)si;
+  c->ink[p] = k->stage == INK_STAGE_GOURAUD ? 255 * (1 - grey) : k->ink[label];
   if (x < a->x0) a->x0 = x;
   if (x >= a->x1) a->x1 = x + 1;
   if (y < a->y0) a->y0 = y;
   if (y >= a->y1) a->y1 = y + 1;
 }
 
-/* Bare paper at pixel p: no level, ink, water or style. */
-static void put_paper(InkCanvas *c, size_t p) {
-  c->level[p] = 0;
-  c->style[p] = INK_NO_STYLE;
-  c->ink[p] = 0;
-  c->cell[p] = (InkCell){0, 0, 0, 0, 0, 0};
-}
-
 /* Pixel p off the canvas (another object shows there). */
 static void put_off(InkCanvas *c, size_t p, InkArea *a) {
-  put_paper(c, p);
-  c->level[p] = c->cell[p].level = INK_OFF;
+  c->level[p] = INK_OFF;
   a->any_off = 1;
-}
-
-/* Row y of bare paper, pixels x0..x1-1. */
-static void paper_run(InkCanvas *c, int y, int x0, int x1) {
-  size_t p = (size_t)y * c->width + x0, n = (size_t)(x1 - x0);
-  memset(c->level + p, 0, n);
-  memset(c->style + p, 0xff, n * sizeof *c->style);   /* INK_NO_STYLE */
-  memset(c->ink + p, 0, n * sizeof *c->ink);           /* 0.0f */
-  memset(c->cell + p, 0, n * sizeof *c->cell);         /* no ink, no water, level 0 */
 }
 
 /* Pixels p0..p1-1 of one ink object (style index si), all of triangle
@@ -156,35 +131,31 @@ static void ink_run(InkCanvas *c, const InkSet *set, const RenderFrame *f, const
   const RenderObject *o = &f->objects[obj];
   float v[3];
   int plain = shade_ink_corners(f, o, face, v), gouraud = k->stage == INK_STAGE_GOURAUD;
+  if (c->style)
+    for (size_t p = p0; p < p1; p++) c->style[p] = (uint16_t)si;
   if (plain && !gouraud && k->ntones == 4) {   /* the common case, its tests out of the loop */
     const float l0 = k->levels[0], l1 = k->levels[1], l2 = k->levels[2];
     const float *inks = k->ink;
-    const InkCell *cells = set->cells + (size_t)si * INK_MAX_TONES;
     for (size_t p = p0; p < p1; p++) {
       float grey = shade_ink_lerp(v, bary[p - p0]);
       int label = 3 - (!(grey < l0) + !(grey < l1) + !(grey < l2));   /* ink_label's */
       c->level[p] = (uint8_t)label;
-      c->style[p] = (uint16_t)si;
       c->ink[p] = inks[label];
-      c->cell[p] = cells[label];
     }
     return;
   }
   for (size_t p = p0; p < p1; p++) {
     float grey = plain ? shade_ink_lerp(v, bary[p - p0]) : shade_ink_grey(f, o, face, bary[p - p0]);
     int label = ink_label(k, grey);
-    float ink = gouraud ? 255 * (1 - grey) : k->ink[label];
     c->level[p] = (uint8_t)label;
-    c->style[p] = (uint16_t)si;
-    c->ink[p] = ink;
-    c->cell[p] = (InkCell){ink, label > 0 ? k->water : 0, 0, 0, (uint8_t)label, 0};
+    c->ink[p] = gouraud ? 255 * (1 - grey) : k->ink[label];
   }
 }
 
 /* One sample a pixel: the sample is the pixel. Every pixel of rt's
-** rectangle is written once: a run of background as bare paper, of one
-** triangle of an ink object from its greys, and a pixel of another object
-** off the canvas. */
+** rectangle is looked at once: a run of background left bare paper, of
+** one triangle of an ink object written from its greys, and a pixel of
+** another object off the canvas. */
 static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, const RastTarget *rt,
                          InkArea *a) {
   int x0 = rt->x0 - f->win.x0, n = rt->x1 - rt->x0;   /* the canvas's columns */
@@ -200,7 +171,6 @@ static void ink_pixels_1(InkCanvas *c, const InkSet *set, const RenderFrame *f, 
       if (obj[x] < 0) {   /* a run of background: bare paper */
         while (e + 4 <= n && (obj[e] & obj[e + 1] & obj[e + 2] & obj[e + 3]) < 0) e += 4;   /* all four < 0 */
         while (e < n && obj[e] < 0) e++;
-        paper_run(c, y, x0 + x, x0 + e);
         continue;
       }
       int si = obj[x] < f->nobjects ? set->of_object[obj[x]] : -1;   /* else an origami sheet */
@@ -240,7 +210,6 @@ static void ink_pixel_n(InkCanvas *c, const InkSet *set, const RenderFrame *f, c
   size_t p = (size_t)y * c->width + x;
   if (n_ink == 0 || n_ink < n_other || n_ink < n_bare) {
     if (n_other > n_bare) put_off(c, p, a);
-    else put_paper(c, p);
     return;
   }
   put_ink(c, set, p, si, grey / (float)n_ink, a, x, y);
@@ -582,8 +551,8 @@ int canvas_begin(const Scene *s, const RenderFrame *f, Canvas **out) {
   ink_set(f, &cv->set);
   if (cv->set.n > 0) {
     InkCanvas *c = &cv->c;
-    ink_canvas_alloc_cells(c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, cv->set.styles, cv->set.n);   /* the
-                                                                  tiles write every pixel of the window */
+    ink_canvas_init_lean(c, f->win.x1 - f->win.x0, f->win.y1 - f->win.y0, cv->set.styles, cv->set.n);   /* the
+                                                                  tiles write its ink pixels */
     c->ox = f->win.x0;
     c->oy = f->win.y0;
     c->absorb = cv->pp.absorb;

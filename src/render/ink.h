@@ -131,26 +131,31 @@ static inline int ink_nonzero_end(const float *v, int a, int e) {
 #define INK_OFF 255         /* a level: not on the canvas (another object covers it) */
 #define INK_NO_STYLE 0xffff /* a style: bare paper */
 
-/* One pixel's diffusion state, together: a step at a pixel reads its own
-** and its neighbours', and the planes are far bigger than the caches (one
-** line per pixel here instead of one per plane). */
+/* A pixel's diffusion state beyond its planes (ink_diffuse's own, a plane
+** of them while it runs). Most pixels never take ink: their cells stay
+** zero (their pages never written) and they keep what they started with,
+** their water the canvas's. */
 typedef struct InkCell {
-  float ink, water;  /* as the planes' */
+  float water;       /* with ready set: the pixel's water */
   uint32_t at;       /* a receiver in this pass: its offer's index + 1; else 0 */
-  uint16_t ready;    /* the pass after which it can give */
-  uint8_t level;     /* as the plane's */
+  uint16_t ready;    /* the pass after which it can give (0: from the first, its water the canvas's) */
   uint8_t noise;     /* the resistance noise where computed, 1..255 (0: not yet) */
 } InkCell;
 
-/* The ink canvas: per pixel, row-major. */
+/* The ink canvas: per pixel, row-major. A frame's canvas starts as bare
+** paper (zeros, ink_canvas_init_lean) and its writer writes only its ink
+** pixels. */
 typedef struct InkCanvas {
   int width, height;
   int ox, oy;               /* the frame pixel of the canvas's first (a tile's window: the
                                paper, the noise and each pixel's random value follow it) */
   float *ink;               /* 0..255 */
-  float *water;             /* NULL with cells of its own: the cells hold it */
+  float *water;             /* NULL: a pixel's water at the start is its style's at an ink level,
+                               none at the paper level (and the diffusion keeps what changes) */
   uint8_t *level;           /* label, or INK_OFF */
-  uint16_t *style;          /* index into styles (whose ink it holds), or INK_NO_STYLE */
+  uint16_t *style;          /* index into styles (whose ink it holds), or INK_NO_STYLE; NULL
+                               with one style (every pixel's is it; bare paper behaves as its
+                               paper level) */
   const InkStyle *styles;
   int nstyles;
   /* the paper's absorbency (a tile that repeats; NULL: 1 everywhere) and
@@ -158,9 +163,7 @@ typedef struct InkCanvas {
   const float *absorb;
   int absorb_w, absorb_h;
   uint32_t seed;
-  InkCell *cell;            /* each pixel's diffusion state: the canvas's own (ink_canvas_alloc_cells:
-                               whoever writes a pixel's ink, level or water writes it there too);
-                               else made from the planes during ink_diffuse */
+  InkCell *cell;            /* during ink_diffuse: each pixel's state */
   const struct NoiseFbm *fbm;   /* during ink_diffuse: the resistance noise's lattice */
   size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
   int *absorb_col;          /* and per column its texel column (no divisions per lookup) */
@@ -176,12 +179,9 @@ typedef struct InkCanvas {
 
 /* Allocate w x h planes: every pixel bare paper (level 0, no ink, no water). */
 void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
-/* The same, the planes left unset: for a caller that writes every pixel. */
-void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
-/* The same with cells of its own and no water plane, for a caller that
-** writes every pixel's cell (at, ready and noise 0) with its planes: the
-** diffusion then copies nothing in, and runs once on the canvas. */
-void ink_canvas_alloc_cells(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
+/* The same without a water plane, and without a style plane with one
+** style: a frame's canvas, whose writer writes its ink pixels only. */
+void ink_canvas_init_lean(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles);
 void ink_canvas_free(InkCanvas *c);
 
 /* Give every ink pixel (a style) its style's water, bare paper none (a

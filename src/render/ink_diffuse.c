@@ -22,41 +22,36 @@
 
 /* ---- the canvas ----------------------------------------------------------- */
 
-void ink_canvas_alloc(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+/* w x h planes of zeros, bare paper (the style plane INK_NO_STYLE), with
+** or without a water plane and a style plane. */
+static void canvas_planes(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles, int water, int style) {
   memset(c, 0, sizeof *c);
-  size_t n = (size_t)w * h;
+  size_t n = (size_t)w * h + 1;
   c->width = w;
   c->height = h;
-  c->ink = xmalloc_huge((n + 1) * sizeof *c->ink);   /* big planes: huge pages, few faults */
-  c->water = xmalloc_huge((n + 1) * sizeof *c->water);
-  c->level = xmalloc_huge(n + 1);
-  c->style = xmalloc_huge((n + 1) * sizeof *c->style);
+  c->ink = mem_zeroed(n * sizeof *c->ink);   /* big planes: their pages are faulted as written */
+  c->water = water ? mem_zeroed(n * sizeof *c->water) : NULL;
+  c->level = mem_zeroed(n);
+  c->style = style ? xmalloc_huge(n * sizeof *c->style) : NULL;
+  if (style) memset(c->style, 0xff, n * sizeof *c->style);   /* INK_NO_STYLE */
   c->styles = styles;
   c->nstyles = nstyles;
 }
 
-void ink_canvas_alloc_cells(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
-  ink_canvas_alloc(c, w, h, styles, nstyles);
-  free(c->water);
-  c->water = NULL;
-  c->cell = xmalloc_huge(((size_t)w * h + 1) * sizeof *c->cell);
+void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+  canvas_planes(c, w, h, styles, nstyles, 1, 1);
 }
 
-void ink_canvas_init(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
-  ink_canvas_alloc(c, w, h, styles, nstyles);
-  size_t n = (size_t)w * h;
-  memset(c->ink, 0, n * sizeof *c->ink);
-  memset(c->water, 0, n * sizeof *c->water);
-  memset(c->level, 0, n);
-  memset(c->style, 0xff, n * sizeof *c->style);   /* INK_NO_STYLE */
+void ink_canvas_init_lean(InkCanvas *c, int w, int h, const InkStyle *styles, int nstyles) {
+  canvas_planes(c, w, h, styles, nstyles, 0, nstyles > 1);
 }
 
 void ink_canvas_free(InkCanvas *c) {
-  free(c->ink);
-  free(c->water);
-  free(c->level);
+  size_t n = (size_t)c->width * c->height + 1;
+  mem_zeroed_free(c->ink, n * sizeof *c->ink);
+  mem_zeroed_free(c->water, n * sizeof *c->water);
+  mem_zeroed_free(c->level, n);
   free(c->style);
-  free(c->cell);
   memset(c, 0, sizeof *c);
 }
 
@@ -84,9 +79,6 @@ static float resist_noise(const InkCanvas *c, int x, int y) {
   return v < 0 ? 0 : v > 1 ? 1 : v;
 }
 
-/* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
-** rho (2 n - 1) over the absorbency, n the smooth noise (cached): it scales
-** a hop's loss and water cost. */
 /* The paper's absorbency under canvas pixel (x, y). */
 static float absorb_at(const InkCanvas *c, int x, int y) {
   return c->absorb[c->absorb_row[y] + (size_t)c->absorb_col[x]];
@@ -118,8 +110,10 @@ static inline void pixel_xy(uint32_t p, uint32_t w, double inv_w, int *x, int *y
   *y = (int)q;
 }
 
-static float ink_resistance(const InkCanvas *c, int x, int y, float rho) {
-  InkCell *e = &c->cell[(size_t)y * c->width + x];
+/* The paper's resistance to ink at pixel (x, y) for roughness rho: 1 +
+** rho (2 n - 1) over the absorbency, n the smooth noise (cached in the
+** pixel's state e): it scales a hop's loss and water cost. */
+static float ink_resistance(const InkCanvas *c, InkCell *e, int x, int y, float rho) {
   if (!e->noise)   /* not yet: only pixels the diffusion reaches need it */
     e->noise = (uint8_t)(1 + resist_noise(c, x, y) * 254 + 0.5f);   /* 1..255: 0 says not yet */
   float n = (float)(e->noise - 1) * (1.0f / 254);
@@ -140,14 +134,7 @@ static int ink_delay(const InkCanvas *c, int x, int y, float rho) {
   return d < 1 ? 1 : d > INK_MAX_DELAY ? INK_MAX_DELAY : d;
 }
 
-/* ---- diffusion ---------------------------------------------------------------- */
-
-typedef struct Offer {
-  uint32_t pixel, from;       /* the receiver and its giver */
-  uint16_t style;
-  uint8_t level, delay;
-  float ink, water;
-} Offer;
+/* ---- the pixels' state -------------------------------------------------------- */
 
 /* Does style index s take part in the diffusion? */
 static inline int diffuses(const InkCanvas *c, int s) {
@@ -158,7 +145,7 @@ static inline int diffuses(const InkCanvas *c, int s) {
 ** (With one style that does, its style need not be looked up: the
 ** planes are big and each one read is a cache miss at a front.) */
 static inline int takes_part(const InkCanvas *c, size_t p) {
-  return c->cell[p].level != INK_OFF && (c->one || diffuses(c, c->style[p]));
+  return c->level[p] != INK_OFF && (c->one || diffuses(c, c->style[p]));
 }
 
 /* The style of ink pixel q. */
@@ -166,48 +153,80 @@ static inline const InkStyle *style_of(const InkCanvas *c, size_t q) {
   return c->one ? c->one : &c->styles[c->style[q]];
 }
 
+/* The water pixel p started with. */
+static inline float water_at_start(const InkCanvas *c, size_t p) {
+  if (c->water) return c->water[p];
+  int l = c->level[p];   /* the washes are wet; the paper level (bare paper, highlights) is dry */
+  return l != INK_OFF && l > 0 ? style_of(c, p)->water : 0;
+}
+
+/* Pixel p's water. */
+static inline float water_of(const InkCanvas *c, size_t p) {
+  const InkCell *e = &c->cell[p];
+  return e->ready ? e->water : water_at_start(c, p);
+}
+
+/* The cells: zeros, their pages written only where the diffusion goes. */
+static void cells_init(InkCanvas *c) {
+  c->cell = mem_zeroed(((size_t)c->width * c->height + 1) * sizeof *c->cell);
+}
+
+static void cells_free(InkCanvas *c) {
+  mem_zeroed_free(c->cell, ((size_t)c->width * c->height + 1) * sizeof *c->cell);
+  c->cell = NULL;
+}
+
+/* ---- diffusion ---------------------------------------------------------------- */
+
+typedef struct Offer {
+  uint32_t pixel, from;       /* the receiver and its giver */
+  uint16_t style;
+  uint8_t level, delay;
+  float ink, water;
+} Offer;
+
 /* May giver q give to receiver p in pass `pass` under the three rules? */
 static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
-  const InkCell *g = &c->cell[q], *r = &c->cell[p];
-  int lq = g->level, lp = r->level;
+  int lq = c->level[q], lp = c->level[p];
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
+  const InkCell *g = &c->cell[q];
   if (g->ready >= pass) return 0;                            /* its water has not come through yet */
   const InkStyle *k = style_of(c, q);
   if (k->stage < INK_STAGE_DIFFUSED) return 0;
-  if (!(g->water > k->water_threshold)) return 0;            /* rule 1: enough water */
-  return g->ink - r->ink > k->ink_threshold;                 /* rule 3: a large enough difference */
+  float water = g->ready ? g->water : water_at_start(c, q);
+  if (!(water > k->water_threshold)) return 0;               /* rule 1: enough water */
+  return c->ink[q] - c->ink[p] > k->ink_threshold;           /* rule 3: a large enough difference */
 }
 
 /* Does giver a come before giver b: darker (level, then ink, then water),
 ** and at a tie the one earlier in the image (so the order givers are
 ** looked at in does not matter)? */
 static inline int darker(const InkCanvas *c, size_t a, size_t b) {
-  const InkCell *x = &c->cell[a], *y = &c->cell[b];
-  if (x->level != y->level) return x->level > y->level;
-  if (x->ink != y->ink) return x->ink > y->ink;
-  if (x->water != y->water) return x->water > y->water;
+  if (c->level[a] != c->level[b]) return c->level[a] > c->level[b];
+  if (c->ink[a] != c->ink[b]) return c->ink[a] > c->ink[b];
+  float wa = water_of(c, a), wb = water_of(c, b);
+  if (wa != wb) return wa > wb;
   return a < b;
 }
 
 /* What giver q gives pixel p (x, y): a little less ink than q has, its
 ** water less a step's cost, through the paper's resistance there. */
 static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Offer *o) {
-  const InkCell *g = &c->cell[q], *e = &c->cell[p];
-  int lp = e->level;
   const InkStyle *k = style_of(c, q);
-  float r = ink_resistance(c, x, y, k->roughness);
-  float cost = r * (lp == 0 ? k->paper_cost : 1);
+  InkCell *e = &c->cell[p];
+  float r = ink_resistance(c, e, x, y, k->roughness);
+  float cost = r * (c->level[p] == 0 ? k->paper_cost : 1);
   float loss = k->ink_loss * cost;
   loss = loss < 0.95f ? loss : 0.95f;
-  float water = g->water - cost;
+  float water = water_of(c, q) - cost, ink = c->ink[p], own = water_of(c, p);
   o->pixel = (uint32_t)p;
   o->from = (uint32_t)q;
   o->style = c->one ? 0 : c->style[q];
-  o->level = g->level;
+  o->level = c->level[q];
   o->delay = (uint8_t)ink_delay(c, x, y, k->roughness);
-  o->ink = e->ink + (1 - loss) * (g->ink - e->ink);   /* its own plus (1 - loss) of the difference */
-  o->water = water > e->water ? water : e->water;     /* nobody loses water */
+  o->ink = ink + (1 - loss) * (c->ink[q] - ink);      /* its own plus (1 - loss) of the difference */
+  o->water = water > own ? water : own;               /* nobody loses water */
 }
 
 /* The giver pixel (x, y) takes from in pass `pass`, into *giver: its
@@ -256,8 +275,10 @@ static inline void fetch_ahead(const InkCanvas *c, const Offer *v, int i, int n)
   if (i + INK_AHEAD >= n) return;
   size_t p = v[i + INK_AHEAD].pixel, w = (size_t)c->width;
   __builtin_prefetch(&c->cell[p]);
-  if (p >= w) __builtin_prefetch(&c->cell[p - w]);
-  if (p + w < w * (size_t)c->height) __builtin_prefetch(&c->cell[p + w]);
+  __builtin_prefetch(&c->ink[p]);
+  __builtin_prefetch(&c->level[p]);
+  if (p >= w) __builtin_prefetch(&c->ink[p - w]), __builtin_prefetch(&c->level[p - w]);
+  if (p + w < w * (size_t)c->height) __builtin_prefetch(&c->ink[p + w]), __builtin_prefetch(&c->level[p + w]);
 }
 
 static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
@@ -265,9 +286,9 @@ static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
     const Offer *o = &u->v[i];
     fetch_ahead(c, u->v, i, u->n);
     InkCell *e = &c->cell[o->pixel];
-    c->level[o->pixel] = e->level = o->level;
-    c->style[o->pixel] = o->style;
-    c->ink[o->pixel] = e->ink = o->ink;
+    c->level[o->pixel] = o->level;
+    if (c->style) c->style[o->pixel] = o->style;
+    c->ink[o->pixel] = o->ink;
     e->water = o->water;
     if (c->water) c->water[o->pixel] = o->water;   /* the planes the canvas keeps */
     int ready = pass + o->delay - 1;
@@ -310,7 +331,7 @@ static void first_pass(const InkCanvas *c, Updates *u) {
 
 /* Receiver p (x, y) with the offer from giver q: the
 ** first offer it gets this pass, or a darker giver's instead of the one it
-** has (its cell holds the offer's index). */
+** has (its state holds the offer's index). */
 /* The offer itself is worked out once the pass's givers are known
 ** (offers_of), from the state before the pass, as it would be now. */
 static void take(const InkCanvas *c, size_t q, size_t p, Updates *u) {
@@ -375,24 +396,6 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
   offers_of(c, u);
 }
 
-/* The cells from the planes, when the canvas has none of its own: no
-** noise yet, and the first ink can give in pass 1. Returns whether it
-** made them (cells_free frees them then). */
-static int cells_init(InkCanvas *c) {
-  if (c->cell) return 0;
-  size_t n = (size_t)c->width * c->height;
-  InkCell *e = c->cell = xmalloc_huge((n + 1) * sizeof *c->cell);
-  for (size_t p = 0; p < n; p++)
-    e[p] = (InkCell){c->ink[p], c->water[p], 0, 0, c->level[p], 0};
-  return 1;
-}
-
-static void cells_free(InkCanvas *c, int made) {
-  if (!made) return;
-  free(c->cell);
-  c->cell = NULL;
-}
-
 /* The most passes any style of the canvas allows. */
 static int style_passes(const InkCanvas *c) {
   int most = 0;
@@ -421,7 +424,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  int made = cells_init(c);
+  cells_init(c);
   Updates u = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -440,7 +443,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   }
   free(u.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
-  cells_free(c, made);
+  cells_free(c);
   noise_fbm_free(&fbm);
   c->fbm = NULL;
   c->one = NULL;
@@ -457,7 +460,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  int made = cells_init(c);
+  cells_init(c);
   Updates u = {0}, last = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -476,7 +479,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   free(u.v);
   free(last.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
-  cells_free(c, made);
+  cells_free(c);
   noise_fbm_free(&fbm);
   c->fbm = NULL;
   c->one = NULL;
