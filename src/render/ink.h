@@ -131,17 +131,6 @@ static inline int ink_nonzero_end(const float *v, int a, int e) {
 #define INK_OFF 255         /* a level: not on the canvas (another object covers it) */
 #define INK_NO_STYLE 0xffff /* a style: bare paper */
 
-/* A pixel's diffusion state beyond its planes (ink_diffuse's own, a plane
-** of them while it runs). Most pixels never take ink: their cells stay
-** zero (their pages never written) and they keep what they started with,
-** their water the canvas's. */
-typedef struct InkCell {
-  float water;       /* with ready set: the pixel's water */
-  uint32_t at;       /* a receiver in this pass: its offer's index + 1; else 0 */
-  uint16_t ready;    /* the pass after which it can give (0: from the first, its water the canvas's) */
-  uint8_t noise;     /* the resistance noise where computed, 1..255 (0: not yet) */
-} InkCell;
-
 /* The ink canvas: per pixel, row-major. A frame's canvas starts as bare
 ** paper (zeros, ink_canvas_init_lean) and its writer writes only its ink
 ** pixels. */
@@ -163,7 +152,7 @@ typedef struct InkCanvas {
   const float *absorb;
   int absorb_w, absorb_h;
   uint32_t seed;
-  InkCell *cell;            /* during ink_diffuse: each pixel's state */
+  struct InkCells *cells;   /* during ink_diffuse: each pixel's state beyond the planes */
   const struct NoiseFbm *fbm;   /* during ink_diffuse: the resistance noise's lattice */
   size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
   int *absorb_col;          /* and per column its texel column (no divisions per lookup) */

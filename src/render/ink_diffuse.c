@@ -64,6 +64,61 @@ void ink_canvas_wet(InkCanvas *c) {
   }
 }
 
+/* ---- the cells ------------------------------------------------------------------- */
+
+/* A pixel's diffusion state beyond its planes. Most pixels never take
+** ink: they keep what they started with (a zero cell), their water the
+** canvas's. */
+typedef struct InkCell {
+  float water;       /* with ready set: the pixel's water */
+  uint32_t at;       /* a receiver in this pass: its offer's index + 1; else 0 */
+  uint16_t ready;    /* the pass after which it can give (0: from the first, its water the canvas's) */
+  uint8_t noise;     /* the resistance noise where computed, 1..255 (0: not yet) */
+} InkCell;
+
+/* The cells, in blocks of CELL_BLOCK pixels in a row (running on into the
+** next), made as the diffusion first changes one of their pixels: the
+** fronts of a 1080p frame reach a fifth of the blocks, and the pool's
+** pages are cleared as they fill, so the state costs what it holds. */
+#define CELL_BLOCK_BITS 6
+#define CELL_BLOCK (1 << CELL_BLOCK_BITS)
+
+typedef struct InkCells {
+  uint32_t *block;   /* per block: its first cell in the pool; 0: not made (the pool's first
+                        block, zeros, stands for them all and is never written) */
+  InkCell *pool;
+  uint32_t made;     /* blocks in the pool, the zero block among them */
+  size_t blocks;
+} InkCells;
+
+static void cells_init(InkCanvas *c, InkCells *t) {
+  t->blocks = ((size_t)c->width * c->height >> CELL_BLOCK_BITS) + 2;
+  t->block = xcalloc(t->blocks, sizeof *t->block);
+  t->pool = mem_zeroed(t->blocks * CELL_BLOCK * sizeof *t->pool);
+  t->made = 1;
+  c->cells = t;
+}
+
+static void cells_free(InkCanvas *c) {
+  InkCells *t = c->cells;
+  free(t->block);
+  mem_zeroed_free(t->pool, t->blocks * CELL_BLOCK * sizeof *t->pool);
+  c->cells = NULL;
+}
+
+/* Pixel p's cell, to read. */
+static inline const InkCell *cell_at(const InkCanvas *c, size_t p) {
+  return &c->cells->pool[c->cells->block[p >> CELL_BLOCK_BITS] + (p & (CELL_BLOCK - 1))];
+}
+
+/* Pixel p's cell, to change: its block made if need be. */
+static inline InkCell *cell_of(const InkCanvas *c, size_t p) {
+  InkCells *t = c->cells;
+  uint32_t *b = &t->block[p >> CELL_BLOCK_BITS];
+  if (!*b) *b = t->made++ << CELL_BLOCK_BITS;
+  return &t->pool[*b + (p & (CELL_BLOCK - 1))];
+}
+
 /* ---- the paper's resistance --------------------------------------------------- */
 
 /* The smooth part of the resistance: gradient noise of cells RESIST_CELL
@@ -162,18 +217,8 @@ static inline float water_at_start(const InkCanvas *c, size_t p) {
 
 /* Pixel p's water. */
 static inline float water_of(const InkCanvas *c, size_t p) {
-  const InkCell *e = &c->cell[p];
+  const InkCell *e = cell_at(c, p);
   return e->ready ? e->water : water_at_start(c, p);
-}
-
-/* The cells: zeros, their pages written only where the diffusion goes. */
-static void cells_init(InkCanvas *c) {
-  c->cell = mem_zeroed(((size_t)c->width * c->height + 1) * sizeof *c->cell);
-}
-
-static void cells_free(InkCanvas *c) {
-  mem_zeroed_free(c->cell, ((size_t)c->width * c->height + 1) * sizeof *c->cell);
-  c->cell = NULL;
 }
 
 /* ---- diffusion ---------------------------------------------------------------- */
@@ -190,7 +235,7 @@ static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
   int lq = c->level[q], lp = c->level[p];
   if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
   if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
-  const InkCell *g = &c->cell[q];
+  const InkCell *g = cell_at(c, q);
   if (g->ready >= pass) return 0;                            /* its water has not come through yet */
   const InkStyle *k = style_of(c, q);
   if (k->stage < INK_STAGE_DIFFUSED) return 0;
@@ -214,7 +259,7 @@ static inline int darker(const InkCanvas *c, size_t a, size_t b) {
 ** water less a step's cost, through the paper's resistance there. */
 static void offer_from(const InkCanvas *c, size_t q, size_t p, int x, int y, Offer *o) {
   const InkStyle *k = style_of(c, q);
-  InkCell *e = &c->cell[p];
+  InkCell *e = cell_of(c, p);
   float r = ink_resistance(c, e, x, y, k->roughness);
   float cost = r * (c->level[p] == 0 ? k->paper_cost : 1);
   float loss = k->ink_loss * cost;
@@ -274,7 +319,7 @@ typedef struct Ready { Updates at[INK_MAX_DELAY + 1]; } Ready;
 static inline void fetch_ahead(const InkCanvas *c, const Offer *v, int i, int n) {
   if (i + INK_AHEAD >= n) return;
   size_t p = v[i + INK_AHEAD].pixel, w = (size_t)c->width;
-  __builtin_prefetch(&c->cell[p]);
+  __builtin_prefetch(cell_at(c, p));
   __builtin_prefetch(&c->ink[p]);
   __builtin_prefetch(&c->level[p]);
   if (p >= w) __builtin_prefetch(&c->ink[p - w]), __builtin_prefetch(&c->level[p - w]);
@@ -285,7 +330,7 @@ static void apply(InkCanvas *c, const Updates *u, int pass, Ready *rd) {
   for (int i = 0; i < u->n; i++) {
     const Offer *o = &u->v[i];
     fetch_ahead(c, u->v, i, u->n);
-    InkCell *e = &c->cell[o->pixel];
+    InkCell *e = cell_of(c, o->pixel);
     c->level[o->pixel] = o->level;
     if (c->style) c->style[o->pixel] = o->style;
     c->ink[o->pixel] = o->ink;
@@ -335,7 +380,7 @@ static void first_pass(const InkCanvas *c, Updates *u) {
 /* The offer itself is worked out once the pass's givers are known
 ** (offers_of), from the state before the pass, as it would be now. */
 static void take(const InkCanvas *c, size_t q, size_t p, Updates *u) {
-  InkCell *e = &c->cell[p];
+  InkCell *e = cell_of(c, p);
   if (e->at) {
     Offer *o = &u->v[e->at - 1];
     if (darker(c, q, o->from)) o->from = (uint32_t)q;
@@ -380,12 +425,12 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
     int x, y;
     pixel_xy(p, (uint32_t)w, inv_w, &x, &y);
     size_t q;
-    if (!c->cell[p].at && best_giver(c, x, y, pass, &q)) take(c, q, p, u);
+    if (!cell_at(c, p)->at && best_giver(c, x, y, pass, &q)) take(c, q, p, u);
   }
   for (int i = 0; i < now->n; i++) {
     uint32_t q = now->v[i].pixel;
     fetch_ahead(c, now->v, i, now->n);
-    if (c->cell[q].ready != pass - 1) continue;   /* it took a darker offer since: listed again */
+    if (cell_at(c, q)->ready != pass - 1) continue;   /* it took a darker offer since: listed again */
     int x0, y0;
     pixel_xy(q, (uint32_t)w, inv_w, &x0, &y0);
     if (x0 > 0) offer_to(c, q, q - 1, pass, u);   /* left, right, up, down */
@@ -424,7 +469,8 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  cells_init(c);
+  InkCells cells;
+  cells_init(c, &cells);
   Updates u = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
@@ -460,7 +506,8 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   c->fbm = &fbm;
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
-  cells_init(c);
+  InkCells cells;
+  cells_init(c, &cells);
   Updates u = {0}, last = {0};
   Ready rd;
   memset(&rd, 0, sizeof rd);
