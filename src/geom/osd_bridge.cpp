@@ -391,6 +391,7 @@ struct LimitJob {
   Sdc::Scheme<SCHEME> scheme;
   int maxv;
   std::vector<LimitMasks> smooth;
+  bool regular4;   // smooth[4] is R4_POS, R4_TAN1, R4_TAN2
   const Point *src;
   double *lim, *nrm;
 
@@ -404,6 +405,49 @@ struct LimitJob {
       LimitMasks &m = smooth.back();
       scheme.ComputeVertexLimitMask(h, m.pos, m.tan1, m.tan2, Sdc::Crease::RULE_SMOOTH);
     }
+    regular4 = SCHEME == Sdc::SCHEME_CATMARK && maxv >= 4 && is_regular4(smooth[4]);
+  }
+
+  // Catmull-Clark's regular vertex (smooth, 4 edges, 4 faces), most of a
+  // refined mesh: its masks as Sdc makes them, written out.
+  static constexpr double R4_POS[9] = {1.0 / 36, 1.0 / 36, 1.0 / 36, 1.0 / 36,  // faces
+                                       1.0 / 9,  1.0 / 9,  1.0 / 9,  1.0 / 9,   // edges
+                                       4.0 / 9};                                // vertex
+  static constexpr double R4_TAN1[9] = {1, -1, -1, 1, 4, 0, -4, 0, 0};
+  static constexpr double R4_TAN2[9] = {1, 1, -1, -1, 0, 4, 0, -4, 0};
+
+  static bool same_mask(Weights const &w, const double *want) {
+    if (w.nf != 4 || w.ne != 4 || w.nv != 1) return false;
+    for (int i = 0; i < 4; i++)
+      if (w.fw[i] != want[i] || w.ew[i] != want[4 + i]) return false;
+    return w.vw[0] == want[8];
+  }
+
+  static bool is_regular4(LimitMasks const &m) {
+    return same_mask(m.pos, R4_POS) && same_mask(m.tan1, R4_TAN1) && same_mask(m.tan2, R4_TAN2);
+  }
+
+  // apply() for the regular vertex with those weights as constants: a
+  // weight of 0 adds +0 or -0 (the points are finite) to a sum that is
+  // never -0 (it starts at +0), so leaving its term out changes no bit;
+  // and x * 1 is x.
+  void apply_regular4(int v, Far::Index const *ei, Far::Index const *fi, Point &p, Point &t1,
+                      Point &t2) const {
+    for (int i = 0; i < 4; i++) p.AddWithWeight(src[fi[i]], R4_POS[i]);
+    for (int i = 0; i < 4; i++) p.AddWithWeight(src[ei[i]], R4_POS[4 + i]);
+    p.AddWithWeight(src[v], R4_POS[8]);
+    t1.AddWithWeight(src[fi[0]], 1.0);
+    t1.AddWithWeight(src[fi[1]], -1.0);
+    t1.AddWithWeight(src[fi[2]], -1.0);
+    t1.AddWithWeight(src[fi[3]], 1.0);
+    t1.AddWithWeight(src[ei[0]], 4.0);
+    t1.AddWithWeight(src[ei[2]], -4.0);
+    t2.AddWithWeight(src[fi[0]], 1.0);
+    t2.AddWithWeight(src[fi[1]], 1.0);
+    t2.AddWithWeight(src[fi[2]], -1.0);
+    t2.AddWithWeight(src[fi[3]], -1.0);
+    t2.AddWithWeight(src[ei[1]], 4.0);
+    t2.AddWithWeight(src[ei[3]], -4.0);
   }
 
   // The masks of vertex v (ne edges, nf faces): kept ones, or made in own
@@ -477,7 +521,8 @@ struct LimitJob {
         LimitMasks const *m = masks_of(v, ne, nf, own, wide);
         if (index.size() < (size_t)(ne + nf)) index.resize(ne + nf);
         neighbours(v, *m, index.data(), index.data() + ne);
-        apply(v, *m, index.data(), index.data() + ne, p, t1, t2);
+        if (regular4 && m == &smooth[4]) apply_regular4(v, index.data(), index.data() + 4, p, t1, t2);
+        else apply(v, *m, index.data(), index.data() + ne, p, t1, t2);
       }
       store(v, p, t1, t2);
     }
