@@ -353,8 +353,9 @@ struct Weights {
   double VertexWeight(int i) const { return vw[i]; }
   double EdgeWeight(int i) const { return ew[i]; }
   double FaceWeight(int i) const { return fw[i]; }
-  bool AreFaceWeightsForFaceCenters() const { return false; }
-  void SetFaceWeightsForFaceCenters(bool) {}
+  bool centres = false;   // face weights for the faces' child points, not their corners
+  bool AreFaceWeightsForFaceCenters() const { return centres; }
+  void SetFaceWeightsForFaceCenters(bool on) { centres = on; }
 };
 
 // A vertex's limit masks (position and the two tangents) for up to maxv
@@ -582,15 +583,155 @@ void limit_points_far(Far::TopologyRefiner const &r, std::vector<Point> const &l
   for (size_t i = 0; i < n; i++) unit_normal(nrm + 3 * i, t2[i].p, nrm + 3 * i);
 }
 
+// Interpolation ----------------------------------------------------------------
+
+// Components one interpolation task takes.
+constexpr int INTERP_CHUNK = 16384;
+
+// One level's points (dst) from its parent's (src) over ranges on the task
+// pool, with Far::PrimvarRefiner::Interpolate's arithmetic (the same Sdc
+// masks, applied in the same order), so the same bits: the points of the
+// parent's faces, then those of its edges and vertices, which read them.
+template <Sdc::SchemeType SCHEME>
+struct InterpJob {
+  Vtr::internal::Refinement const *ref;
+  Vtr::internal::Level const *parent, *child;
+  Sdc::Scheme<SCHEME> scheme;
+  const Point *src;
+  Point *dst;
+
+  InterpJob(Far::TopologyRefiner const &r, int level, const Point *s, Point *d)
+      : ref(&r.getRefinement(level - 1)), parent(&ref->parent()), child(&ref->child()),
+        scheme(r.GetSchemeOptions()), src(s), dst(d) {}
+
+  void faces(int f0, int f1) const {
+    std::vector<double> w(std::max(parent->getMaxValence(), 4));
+    for (int f = f0; f < f1; f++) {
+      Far::Index c = ref->getFaceChildVertex(f);
+      if (!Vtr::IndexIsValid(c)) continue;
+      Far::ConstIndexArray fv = parent->getFaceVertices(f);
+      if ((size_t)fv.size() > w.size()) w.resize(fv.size());
+      Weights m;
+      m.vw = w.data();
+      Vtr::internal::FaceInterface hood(fv.size());
+      scheme.ComputeFaceVertexMask(hood, m);
+      dst[c].Clear();
+      for (int i = 0; i < fv.size(); i++) dst[c].AddWithWeight(src[fv[i]], w[i]);
+    }
+  }
+
+  void edges(int e0, int e1) const {
+    Vtr::internal::EdgeInterface hood(*parent);
+    double vw[2];
+    std::vector<double> fw(std::max(parent->getMaxEdgeFaces(), 2));
+    for (int e = e0; e < e1; e++) {
+      Far::Index c = ref->getEdgeChildVertex(e);
+      if (!Vtr::IndexIsValid(c)) continue;
+      Far::ConstIndexArray ev = parent->getEdgeVertices(e), ef = parent->getEdgeFaces(e);
+      if ((size_t)ef.size() > fw.size()) fw.resize(ef.size());
+      Weights m;
+      m.vw = vw;
+      m.fw = fw.data();
+      hood.SetIndex(e);
+      Sdc::Crease::Rule prule =
+          parent->getEdgeSharpness(e) > 0.0f ? Sdc::Crease::RULE_CREASE : Sdc::Crease::RULE_SMOOTH;
+      scheme.ComputeEdgeVertexMask(hood, m, prule, child->getVertexRule(c));
+      dst[c].Clear();
+      dst[c].AddWithWeight(src[ev[0]], vw[0]);
+      dst[c].AddWithWeight(src[ev[1]], vw[1]);
+      if (m.nf == 0) continue;
+      for (int i = 0; i < ef.size(); i++) {
+        if (m.centres) {
+          dst[c].AddWithWeight(dst[ref->getFaceChildVertex(ef[i])], fw[i]);
+          continue;
+        }
+        Far::ConstIndexArray fe = parent->getFaceEdges(ef[i]), fv = parent->getFaceVertices(ef[i]);
+        int k = 0;
+        while (fe[k] != e) k++;
+        k += 2;
+        if (k >= fv.size()) k -= fv.size();
+        dst[c].AddWithWeight(src[fv[k]], fw[i]);
+      }
+    }
+  }
+
+  void verts(int v0, int v1) const {
+    Vtr::internal::VertexInterface hood(*parent, *child);
+    std::vector<double> w(2 * (size_t)parent->getMaxValence() + 2);
+    for (int v = v0; v < v1; v++) {
+      Far::Index c = ref->getVertexChildVertex(v);
+      if (!Vtr::IndexIsValid(c)) continue;
+      Far::ConstIndexArray ve = parent->getVertexEdges(v), vf = parent->getVertexFaces(v);
+      if (w.size() < (size_t)(ve.size() + vf.size())) w.resize(ve.size() + vf.size());
+      double vw;
+      Weights m;
+      m.vw = &vw;
+      m.ew = w.data();
+      m.fw = w.data() + ve.size();
+      hood.SetIndex(v, c);
+      scheme.ComputeVertexVertexMask(hood, m, parent->getVertexRule(v), child->getVertexRule(c));
+      dst[c].Clear();
+      if (m.nf > 0)
+        for (int i = 0; i < vf.size(); i++)
+          dst[c].AddWithWeight(dst[ref->getFaceChildVertex(vf[i])], m.fw[i]);
+      if (m.ne > 0)
+        for (int i = 0; i < ve.size(); i++) {
+          Far::ConstIndexArray ends = parent->getEdgeVertices(ve[i]);
+          dst[c].AddWithWeight(src[ends[0] == v ? ends[1] : ends[0]], m.ew[i]);
+        }
+      dst[c].AddWithWeight(src[v], vw);
+    }
+  }
+};
+
+template <Sdc::SchemeType SCHEME>
+void interp_faces(void *ctx, int k) {
+  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
+  job->faces(k * INTERP_CHUNK, std::min(job->parent->getNumFaces(), (k + 1) * INTERP_CHUNK));
+}
+
+template <Sdc::SchemeType SCHEME>
+void interp_edges(void *ctx, int k) {
+  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
+  job->edges(k * INTERP_CHUNK, std::min(job->parent->getNumEdges(), (k + 1) * INTERP_CHUNK));
+}
+
+template <Sdc::SchemeType SCHEME>
+void interp_verts(void *ctx, int k) {
+  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
+  job->verts(k * INTERP_CHUNK, std::min(job->parent->getNumVertices(), (k + 1) * INTERP_CHUNK));
+}
+
+int chunks(int n) {
+  return (n + INTERP_CHUNK - 1) / INTERP_CHUNK;
+}
+
+template <Sdc::SchemeType SCHEME>
+void interpolate_level(Far::TopologyRefiner const &r, int level, const Point *src, Point *dst,
+                       int threads) {
+  InterpJob<SCHEME> job(r, level, src, dst);
+  if (job.ref->getNumChildVerticesFromFaces() > 0)   // none in loop's split
+    tasks_run(chunks(job.parent->getNumFaces()), threads, interp_faces<SCHEME>, &job);
+  tasks_run(chunks(job.parent->getNumEdges()), threads, interp_edges<SCHEME>, &job);
+  tasks_run(chunks(job.parent->getNumVertices()), threads, interp_verts<SCHEME>, &job);
+}
+
 // The level's points from the base positions, level by level (double
-// precision weights).
-std::vector<Point> interpolate(Far::TopologyRefiner const &r, const double *pos, int nverts) {
+// precision weights), on up to `threads` threads; with far, by
+// Far::PrimvarRefiner::Interpolate itself (the tests' reference).
+std::vector<Point> interpolate(Far::TopologyRefiner const &r, const double *pos, int nverts,
+                               int threads, int far) {
   Far::PrimvarRefinerReal<double> pr(r);
   std::vector<Point> src(nverts), dst;
   for (size_t i = 0; i < src.size(); i++) src[i] = Point(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
   for (int l = 1; l <= r.GetMaxLevel(); l++) {
     dst.resize(r.GetLevel(l).GetNumVertices());
-    pr.Interpolate(l, src, dst);
+    if (far) pr.Interpolate(l, src, dst);
+    else if (r.GetSchemeType() == Sdc::SCHEME_LOOP)
+      interpolate_level<Sdc::SCHEME_LOOP>(r, l, src.data(), dst.data(), threads);
+    else if (r.GetSchemeType() == Sdc::SCHEME_BILINEAR)
+      interpolate_level<Sdc::SCHEME_BILINEAR>(r, l, src.data(), dst.data(), threads);
+    else interpolate_level<Sdc::SCHEME_CATMARK>(r, l, src.data(), dst.data(), threads);
     src.swap(dst);
   }
   return src;
@@ -671,19 +812,20 @@ void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, Sumi
 
 // Refines r (t's base refiner) in place and fills *out (zeroed by the
 // caller, who frees it if this throws midway); out->ctrl only with
-// keep_ctrl. The limit is OpenSubdiv's own Far::PrimvarRefiner::Limit with
-// far_limit, else limit_points' on up to `threads` threads.
+// keep_ctrl. The points and their limit are OpenSubdiv's own
+// Far::PrimvarRefiner's with far, else the bridge's on up to `threads`
+// threads.
 void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, const double *pos,
-               int keep_ctrl, int threads, int far_limit, SumiOsdRefined *out) {
+               int keep_ctrl, int threads, int far, SumiOsdRefined *out) {
   Far::TopologyRefiner::UniformOptions uo(level);
   uo.fullTopologyInLastLevel = true;  // the limit needs it, and the crease tags the last edges
   r.RefineUniform(uo);
-  std::vector<Point> ctrl = interpolate(r, pos, t.nverts);
+  std::vector<Point> ctrl = interpolate(r, pos, t.nverts, threads, far);
   out->level = level;
   out->nverts = (int)ctrl.size();
   out->limit = alloc_points(ctrl.size());
   out->normal = alloc_points(ctrl.size());
-  if (far_limit) limit_points_far(r, ctrl, t.scheme, out->limit, out->normal);
+  if (far) limit_points_far(r, ctrl, t.scheme, out->limit, out->normal);
   else limit_points(r, ctrl, t.scheme, threads, out->limit, out->normal);
   if (keep_ctrl) out->ctrl = copy_points(ctrl);
   std::vector<Point>().swap(ctrl);   // gone before the topology is copied out (peak memory)
@@ -702,11 +844,11 @@ int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *o
 }
 
 int refine_topology(const SumiOsdTopology *t, int level, const double *pos, int keep_ctrl,
-                    int threads, int far_limit, SumiOsdRefined *out, char *err, size_t errlen) {
+                    int threads, int far, SumiOsdRefined *out, char *err, size_t errlen) {
   std::unique_ptr<Far::TopologyRefiner> r(checked_refiner(t, err, errlen));
   if (!r) return 0;
   if (level < 1 || level > 15) return fail(err, errlen, "level %d is outside 1..15", level);
-  refine_in(*r, *t, level, pos, keep_ctrl, threads, far_limit, out);
+  refine_in(*r, *t, level, pos, keep_ctrl, threads, far, out);
   return 1;
 }
 
@@ -768,16 +910,17 @@ extern "C" int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t err
       err, errlen, "out of memory in OpenSubdiv");
 }
 
-// sumi_osd_refine_topology, with the bridge's limit or (far_limit) with Far's.
+// sumi_osd_refine_topology, with the bridge's interpolation and limit or
+// (far) with Far's.
 static int refine_topology_call(const SumiOsdTopology *topo, int level, const double *pos,
-                                int keep_ctrl, int threads, int far_limit, SumiOsdRefined *out,
+                                int keep_ctrl, int threads, int far, SumiOsdRefined *out,
                                 char *err, size_t errlen) {
   std::memset(out, 0, sizeof *out);
   char oom[64];
   std::snprintf(oom, sizeof oom, "out of memory refining to level %d", level);
   int ok = guarded(
       [&] {
-        return refine_topology(topo, level, pos, keep_ctrl, threads, far_limit, out, err, errlen);
+        return refine_topology(topo, level, pos, keep_ctrl, threads, far, out, err, errlen);
       },
       err, errlen, oom);
   if (!ok) sumi_osd_refined_free(out);
@@ -790,9 +933,8 @@ extern "C" int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, 
   return refine_topology_call(topo, level, pos, keep_ctrl, threads, 0, out, err, errlen);
 }
 
-extern "C" int sumi_osd_refine_far_limit(const SumiOsdTopology *topo, int level,
-                                         const double *pos, SumiOsdRefined *out, char *err,
-                                         size_t errlen) {
+extern "C" int sumi_osd_refine_far(const SumiOsdTopology *topo, int level, const double *pos,
+                                   SumiOsdRefined *out, char *err, size_t errlen) {
   return refine_topology_call(topo, level, pos, 1, 1, 1, out, err, errlen);
 }
 

@@ -88,17 +88,19 @@ int sumi_osd_check(const SumiOsdTopology *topo, char *err, size_t errlen);
 
 /* sumi_osd_create's checks, then sumi_osd_refine, in one refiner made for
 ** the call (no handle, no limit evaluator: a third of the base meshes
-** made). With keep_ctrl 0, out->ctrl is NULL. The limit runs on up to
-** `threads` threads (the same bits at any count). */
+** made). With keep_ctrl 0, out->ctrl is NULL. The points of each level
+** and their limit are made on up to `threads` threads (the same bits at
+** any count). */
 int sumi_osd_refine_topology(const SumiOsdTopology *topo, int level, const double *pos,
                              int keep_ctrl, int threads, SumiOsdRefined *out, char *err,
                              size_t errlen);
 
-/* The same (with out->ctrl) on one thread, the limit positions and normals
-** from OpenSubdiv's own Far::PrimvarRefiner::Limit rather than the bridge's
-** ranges: the reference the tests hold the bridge's limit to, bit for bit. */
-int sumi_osd_refine_far_limit(const SumiOsdTopology *topo, int level, const double *pos,
-                              SumiOsdRefined *out, char *err, size_t errlen);
+/* The same (with out->ctrl) on one thread, the points of each level and
+** their limit by OpenSubdiv's own Far::PrimvarRefiner (Interpolate, Limit)
+** rather than the bridge's ranges: the reference the tests hold the
+** bridge's to, bit for bit. */
+int sumi_osd_refine_far(const SumiOsdTopology *topo, int level, const double *pos,
+                        SumiOsdRefined *out, char *err, size_t errlen);
 
 /* 1 if base face `face` of m has a limit surface (0 for holes and for
 ** boundary faces under SUMI_OSD_BOUNDARY_NONE). */

@@ -590,34 +590,35 @@ TEST(subdiv_open_plane_boundary) {
   }
 }
 
-/* The bridge's limit (positions and normals, on 1 and 3 threads) is Far's
-** own Far::PrimvarRefiner::Limit of the same refinement, bit for bit. */
-static int limit_is_far_limit(const SceneGeometry *g, SumiOsdBoundary boundary) {
+/* The bridge's points of the last level and their limit (positions and
+** normals), on 1 and 3 threads, are Far::PrimvarRefiner's (Interpolate,
+** Limit) of the same refinement, bit for bit. */
+static int points_are_far_points(const SceneGeometry *g, SumiOsdBoundary boundary) {
   char err[256];
   SubdivTopology st;
   if (!subdiv_topology(g, boundary, &st, err, sizeof err)) return 0;
   SumiOsdRefined far, ours[2];
   const double *pos = (const double *)g->verts;
-  int ok = sumi_osd_refine_far_limit(&st.topo, g->subdiv_level, pos, &far, err, sizeof err);
+  int ok = sumi_osd_refine_far(&st.topo, g->subdiv_level, pos, &far, err, sizeof err);
   for (int k = 0; k < 2; k++) {
     int threads = k ? 3 : 1;
-    if (!sumi_osd_refine_topology(&st.topo, g->subdiv_level, pos, 0, threads, &ours[k], err,
+    if (!sumi_osd_refine_topology(&st.topo, g->subdiv_level, pos, 1, threads, &ours[k], err,
                                   sizeof err)) {
       ok = 0;
       continue;
     }
     size_t bytes = 3 * sizeof(double) * (size_t)far.nverts;
-    ok = ok && ours[k].nverts == far.nverts && !memcmp(ours[k].limit, far.limit, bytes) &&
-         !memcmp(ours[k].normal, far.normal, bytes);
+    ok = ok && ours[k].nverts == far.nverts && !memcmp(ours[k].ctrl, far.ctrl, bytes) &&
+         !memcmp(ours[k].limit, far.limit, bytes) && !memcmp(ours[k].normal, far.normal, bytes);
     sumi_osd_refined_free(&ours[k]);
   }
-  if (!ok) fprintf(stderr, "limit differs from Far's: %s\n", err);
+  if (!ok) fprintf(stderr, "points differ from Far's: %s\n", err);
   sumi_osd_refined_free(&far);
   subdiv_topology_free(&st);
   return ok;
 }
 
-TEST(subdiv_limit_is_far_limit) {
+TEST(subdiv_points_are_far_points) {
   /* The cube, moved off its round numbers, with a semi-sharp and a sharp
   ** crease and a corner; the open grid under each boundary rule; an
   ** octahedron and an open fan under loop; a cone of 20 triangles (a
@@ -632,7 +633,7 @@ TEST(subdiv_limit_is_far_limit) {
     g.verts = cv;
     g.ncorners = 1;
     g.corners = (void *)corner;
-    CHECK(limit_is_far_limit(&g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+    CHECK(points_are_far_points(&g, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   }
   Vec3 v[16];
   int start[10], index[36];
@@ -649,9 +650,9 @@ TEST(subdiv_limit_is_far_limit) {
   grid.kind = GEOM_MESH;
   grid.nverts = 16; grid.verts = v; grid.nfaces = 9; grid.face_start = start; grid.face_index = index;
   grid.subdiv_level = 3;
-  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
-  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_EDGE_ONLY));
-  CHECK(limit_is_far_limit(&grid, SUMI_OSD_BOUNDARY_NONE));
+  CHECK(points_are_far_points(&grid, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&grid, SUMI_OSD_BOUNDARY_EDGE_ONLY));
+  CHECK(points_are_far_points(&grid, SUMI_OSD_BOUNDARY_NONE));
   /* the grid as triangles, loop: an open mesh */
   int tstart[19], tindex[54];
   for (int f = 0; f < 9; f++) {
@@ -663,7 +664,7 @@ TEST(subdiv_limit_is_far_limit) {
   SceneGeometry fan = grid;
   fan.nfaces = 18; fan.face_start = tstart; fan.face_index = tindex;
   fan.subdiv_scheme = "loop";
-  CHECK(limit_is_far_limit(&fan, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&fan, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   Vec3 ov[6] = {{1, 0.1, 0}, {-1, 0, 0.2}, {0, 1, 0}, {0.3, -1, 0}, {0, 0, 1}, {0, 0.1, -1}};
   int ostart[9] = {0, 3, 6, 9, 12, 15, 18, 21, 24};
   int oindex[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
@@ -673,7 +674,7 @@ TEST(subdiv_limit_is_far_limit) {
   oct.nverts = 6; oct.verts = ov; oct.nfaces = 8; oct.face_start = ostart; oct.face_index = oindex;
   oct.subdiv_level = 3;
   oct.subdiv_scheme = "loop";
-  CHECK(limit_is_far_limit(&oct, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&oct, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   enum { N = 20 };
   Vec3 kv[N + 1];
   int kstart[N + 1], kindex[3 * N];
@@ -689,9 +690,9 @@ TEST(subdiv_limit_is_far_limit) {
   cone.kind = GEOM_MESH;
   cone.nverts = N + 1; cone.verts = kv; cone.nfaces = N; cone.face_start = kstart; cone.face_index = kindex;
   cone.subdiv_level = 2;
-  CHECK(limit_is_far_limit(&cone, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&cone, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   cone.subdiv_scheme = "loop";
-  CHECK(limit_is_far_limit(&cone, SUMI_OSD_BOUNDARY_EDGE_ONLY));
+  CHECK(points_are_far_points(&cone, SUMI_OSD_BOUNDARY_EDGE_ONLY));
   static Vec3 fv[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                        {1, -1, 0}, {0, -1, 0}, {1, 0, 1}, {0, 0, 1}};
   static int fstart[4] = {0, 4, 8, 12};
@@ -701,7 +702,7 @@ TEST(subdiv_limit_is_far_limit) {
   fin.kind = GEOM_MESH;
   fin.nverts = 8; fin.verts = fv; fin.nfaces = 3; fin.face_start = fstart; fin.face_index = findex;
   fin.subdiv_level = 2;
-  CHECK(limit_is_far_limit(&fin, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&fin, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
 }
 
 /* ---- the refinement reference -------------------------------------------------- */
@@ -835,7 +836,7 @@ int main(void) {
   RUN(subdiv_loop_and_bilinear);
   RUN(subdiv_errors);
   RUN(subdiv_open_plane_boundary);
-  RUN(subdiv_limit_is_far_limit);
+  RUN(subdiv_points_are_far_points);
   RUN(refine_uniform_converges);
   RUN(refine_evaluation_exact);
   RUN(refine_adaptive_within_tolerance);
