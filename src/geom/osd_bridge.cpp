@@ -311,6 +311,43 @@ std::vector<float> tagged_edges(SumiOsdTopology const &t, Far::TopologyRefiner c
   return tag;
 }
 
+// The task pool ------------------------------------------------------------------
+
+// Components (vertices, edges, faces) one task takes.
+constexpr int CHUNK = 16384;
+
+// fn(first, end) over [0, n) in chunks of `chunk`, on the pool.
+template <class Fn>
+struct PoolRun {
+  Fn const *fn;
+  int n, chunk;
+  std::mutex lock;
+  std::exception_ptr error;
+};
+
+template <class Fn>
+void pool_task(void *ctx, int k) {
+  PoolRun<Fn> *run = static_cast<PoolRun<Fn> *>(ctx);
+  try {
+    (*run->fn)(k * run->chunk, std::min(run->n, (k + 1) * run->chunk));
+  } catch (...) {   // none may cross tasks.c's C frames: thrown again by on_pool
+    std::lock_guard<std::mutex> hold(run->lock);
+    if (!run->error) run->error = std::current_exception();
+  }
+}
+
+// fn(first, end) for the chunks of [0, n) on up to `threads` threads; an
+// exception in one (out of memory) is thrown here once all are done.
+template <class Fn>
+void on_pool(int n, int threads, Fn const &fn, int chunk = CHUNK) {
+  PoolRun<Fn> run;
+  run.fn = &fn;
+  run.n = n;
+  run.chunk = chunk;
+  tasks_run((n + chunk - 1) / chunk, threads, pool_task<Fn>, &run);
+  if (run.error) std::rethrow_exception(run.error);
+}
+
 // Limit masks ------------------------------------------------------------------
 
 // The unit normal a x b into n (0 when it has no length); n may be a.
@@ -535,22 +572,11 @@ struct LimitJob {
   }
 };
 
-// Vertices one limit task takes.
-constexpr int LIMIT_CHUNK = 16384;
-
-template <Sdc::SchemeType SCHEME>
-void limit_task(void *ctx, int k) {
-  LimitJob<SCHEME> const *job = static_cast<LimitJob<SCHEME> const *>(ctx);
-  int n = job->level->GetNumVertices();
-  job->run(k * LIMIT_CHUNK, std::min(n, (k + 1) * LIMIT_CHUNK));
-}
-
 template <Sdc::SchemeType SCHEME>
 void limit_on_pool(Far::TopologyRefiner const &r, const Point *src, int threads, double *lim,
                    double *nrm) {
   LimitJob<SCHEME> job(r, src, lim, nrm);
-  int n = job.level->GetNumVertices();
-  tasks_run((n + LIMIT_CHUNK - 1) / LIMIT_CHUNK, threads, limit_task<SCHEME>, &job);
+  on_pool(job.level->GetNumVertices(), threads, [&](int v0, int v1) { job.run(v0, v1); });
 }
 
 // Limit positions (lim) and unit limit normals (nrm) of the last level's
@@ -584,9 +610,6 @@ void limit_points_far(Far::TopologyRefiner const &r, std::vector<Point> const &l
 }
 
 // Interpolation ----------------------------------------------------------------
-
-// Components one interpolation task takes.
-constexpr int INTERP_CHUNK = 16384;
 
 // One level's points (dst) from its parent's (src) over ranges on the task
 // pool, with Far::PrimvarRefiner::Interpolate's arithmetic (the same Sdc
@@ -685,35 +708,13 @@ struct InterpJob {
 };
 
 template <Sdc::SchemeType SCHEME>
-void interp_faces(void *ctx, int k) {
-  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
-  job->faces(k * INTERP_CHUNK, std::min(job->parent->getNumFaces(), (k + 1) * INTERP_CHUNK));
-}
-
-template <Sdc::SchemeType SCHEME>
-void interp_edges(void *ctx, int k) {
-  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
-  job->edges(k * INTERP_CHUNK, std::min(job->parent->getNumEdges(), (k + 1) * INTERP_CHUNK));
-}
-
-template <Sdc::SchemeType SCHEME>
-void interp_verts(void *ctx, int k) {
-  InterpJob<SCHEME> const *job = static_cast<InterpJob<SCHEME> const *>(ctx);
-  job->verts(k * INTERP_CHUNK, std::min(job->parent->getNumVertices(), (k + 1) * INTERP_CHUNK));
-}
-
-int chunks(int n) {
-  return (n + INTERP_CHUNK - 1) / INTERP_CHUNK;
-}
-
-template <Sdc::SchemeType SCHEME>
 void interpolate_level(Far::TopologyRefiner const &r, int level, const Point *src, Point *dst,
                        int threads) {
   InterpJob<SCHEME> job(r, level, src, dst);
   if (job.ref->getNumChildVerticesFromFaces() > 0)   // none in loop's split
-    tasks_run(chunks(job.parent->getNumFaces()), threads, interp_faces<SCHEME>, &job);
-  tasks_run(chunks(job.parent->getNumEdges()), threads, interp_edges<SCHEME>, &job);
-  tasks_run(chunks(job.parent->getNumVertices()), threads, interp_verts<SCHEME>, &job);
+    on_pool(job.parent->getNumFaces(), threads, [&](int a, int b) { job.faces(a, b); });
+  on_pool(job.parent->getNumEdges(), threads, [&](int a, int b) { job.edges(a, b); });
+  on_pool(job.parent->getNumVertices(), threads, [&](int a, int b) { job.verts(a, b); });
 }
 
 // The level's points from the base positions, level by level (double
@@ -829,8 +830,7 @@ void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, con
   else limit_points(r, ctrl, t.scheme, threads, out->limit, out->normal);
   if (keep_ctrl) out->ctrl = copy_points(ctrl);
   std::vector<Point>().swap(ctrl);   // gone before the topology is copied out (peak memory)
-  collect_faces(r, out);
-  collect_edges(t, r, out);
+  on_pool(2, threads, [&](int k, int) { k ? collect_edges(t, r, out) : collect_faces(r, out); }, 1);
 }
 
 int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,
