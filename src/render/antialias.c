@@ -89,29 +89,52 @@ static unsigned away_code(const float p[3], const WalkBox *b) {
 }
 
 /* The triangle across edge k of triangle t of m, from its topology (-1:
-** a boundary, a non-manifold edge, no topology), or from nb when there. */
-static inline int neighbour(const Mesh *m, const int32_t (*nb)[3], int t, int k) {
-  if (nb) return nb[t][k];
+** a boundary, a non-manifold edge, no topology). */
+static inline int neighbour(const Mesh *m, int t, int k) {
   if (!m->tri_edges) return -1;
   const MeshEdge *e = &m->edges[m->tri_edges[t][k]];
   return e->nonmanifold ? -1 : e->f[0] == t ? e->f[1] : e->f[0];
 }
 
-/* The mesh's neighbours (neighbour()) as a table kept with a mesh kept
-** for later frames (mesh_derived): they depend on the mesh alone. NULL for
-** a mesh that keeps nothing (the topology is read instead: no table in
-** memory beside it). */
+/* How the shading of o can jump between its triangles (shading_jumps):
+** 0 never, 1 lit flat shading (its planes), 2 corner normals. */
+static int jump_kind(const RenderObject *o) {
+  return !may_jump(o) ? 0 : o->style->kind == SHADE_FLAT ? 1 : 2;
+}
+
+/* The walk's neighbours of a mesh kept for later frames (mesh_derived):
+** neighbour(), less the edges across which the shading jumps, which
+** depend on the mesh, the kind of jump and the world copies the
+** transform makes of its points and normals. */
+typedef struct WalkNeighbours {
+  Mat4 M;                      /* the transform and */
+  int kind;                    /* jump_kind the jumps were found for */
+  int32_t (*nb)[3];
+} WalkNeighbours;
+
 static const char neighbours_tag;
 
-static const int32_t (*mesh_neighbours(const Mesh *m))[3] {
-  int32_t (*nb)[3] = mesh_derived(m, &neighbours_tag);
-  if (nb || !m->keeps_derived) return (const int32_t(*)[3])nb;
-  nb = xmalloc(((size_t)m->ntris + 1) * sizeof *nb);
-  for (int t = 0; t < m->ntris; t++)
-    for (int k = 0; k < 3; k++) nb[t][k] = neighbour(m, NULL, t, k);
-  /* an addition to the mesh, not a change: it stays the caller's */
-  mesh_derived_set((Mesh *)m, &neighbours_tag, nb, free);
-  return (const int32_t(*)[3])nb;
+static void walk_neighbours_free(void *data) {
+  WalkNeighbours *w = data;
+  free(w->nb);
+  free(w);
+}
+
+/* The walk neighbours kept with o's mesh, when they were found for o's
+** transform and kind of jump; else NULL, with *made a new table for
+** init_triangles to fill when the mesh keeps such data (without it, the
+** walk's data is made from the topology: no table in memory beside it). */
+static const int32_t (*kept_neighbours(const RenderObject *o, WalkNeighbours **made))[3] {
+  const Mesh *m = o->mesh;
+  int kind = jump_kind(o);
+  const WalkNeighbours *w = mesh_derived(m, &neighbours_tag);
+  *made = NULL;
+  if (w && w->kind == kind && (kind == 0 || !memcmp(&w->M, &o->object_to_world, sizeof w->M)))
+    return (const int32_t(*)[3])w->nb;
+  if (!m->keeps_derived) return NULL;
+  *made = xmalloc(sizeof **made);
+  **made = (WalkNeighbours){o->object_to_world, kind, xmalloc(((size_t)m->ntris + 1) * sizeof (*made)->nb[0])};
+  return NULL;
 }
 
 /* One object's walk data, made in chunks of AA_CHUNK vertices or
@@ -120,14 +143,12 @@ static const int32_t (*mesh_neighbours(const Mesh *m))[3] {
 enum { AA_CHUNK = 16384 };
 
 typedef struct AaInit {
-  AaObject *a;
   const RenderObject *o;
   const RastVert *rv;
   const WalkBox *box;
   unsigned char *code;         /* per vertex: away_code */
   unsigned char *any;          /* per vertex chunk: the OR of its codes */
-  int any_all;                 /* some vertex is away from the box */
-  const int32_t (*nb)[3];
+  int32_t (*fill)[3];          /* the walk neighbours to find, or NULL */
   int jumps;
 } AaInit;
 
@@ -145,27 +166,16 @@ static void init_vertices(void *ctx, int k) {
   in->any[k] = (unsigned char)any;
 }
 
-static void init_triangles(void *ctx, int k) {
-  AaInit *in = ctx;
+static void init_neighbours(void *ctx, int k) {
+  const AaInit *in = ctx;
   const RenderObject *o = in->o;
   const Mesh *m = o->mesh;
-  const unsigned char *back = o->backfacing, *code = in->code;
-  int32_t (*adj)[3] = in->a->adj;
   int t1 = (k + 1) * AA_CHUNK < m->ntris ? (k + 1) * AA_CHUNK : m->ntris;
-  for (int t = k * AA_CHUNK; t < t1; t++) {
-    const int *c = m->tri[t];
-    if (in->any_all && (code[c[0]] & code[c[1]] & code[c[2]])) {   /* wholly away from the window */
-      adj[t][0] = adj[t][1] = adj[t][2] = -1;
-      continue;
-    }
+  for (int t = k * AA_CHUNK; t < t1; t++)
     for (int j = 0; j < 3; j++) {
-      int g = neighbour(m, in->nb, t, j);
-      /* the walk stops where the surface ends, turns away (an outline)
-      ** or its shading jumps */
-      if (g >= 0 && (back[g] != back[t] || (in->jumps && shading_jumps(o, t, j, g)))) g = -1;
-      adj[t][j] = g;
+      int g = neighbour(m, t, j);
+      in->fill[t][j] = g >= 0 && in->jumps && shading_jumps(o, t, j, g) ? -1 : g;
     }
-  }
 }
 
 static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, const WalkBox *box,
@@ -174,16 +184,24 @@ static void object_init(AaObject *a, const RenderObject *o, const RastVert *rv, 
   a->clear = o->style->alpha == 0;
   a->tri = (const int(*)[3])m->tri;
   a->rv = rv;
-  a->adj = xmalloc(((size_t)m->ntris + 1) * sizeof *a->adj);
+  a->back = o->backfacing;
   int nvc = (m->nverts + AA_CHUNK - 1) / AA_CHUNK, ntc = (m->ntris + AA_CHUNK - 1) / AA_CHUNK;
-  AaInit in = {a, o, rv, box, xmalloc((size_t)m->nverts + 1), xcalloc((size_t)nvc + 1, 1), 0, NULL, 0};
+  AaInit in = {o, rv, box, xmalloc((size_t)m->nverts + 1), xcalloc((size_t)nvc + 1, 1), NULL, may_jump(o)};
   tasks_run(nvc, nthreads, init_vertices, &in);
-  for (int k = 0; k < nvc; k++) in.any_all |= in.any[k];
-  in.nb = mesh_neighbours(m);
-  in.jumps = may_jump(o);   /* else only the surface's end and its turning away stop a walk */
-  tasks_run(ntc, nthreads, init_triangles, &in);
-  free(in.code);
+  unsigned any = 0;
+  for (int k = 0; k < nvc; k++) any |= in.any[k];
   free(in.any);
+  a->away = any ? in.code : NULL;   /* some vertex lies away from the window */
+  if (!any) free(in.code);
+  WalkNeighbours *made;
+  a->nb = kept_neighbours(o, &made);
+  if (a->nb) return;
+  in.fill = made ? made->nb : xmalloc(((size_t)m->ntris + 1) * sizeof *in.fill);
+  tasks_run(ntc, nthreads, init_neighbours, &in);
+  a->nb = (const int32_t(*)[3])in.fill;
+  /* an addition to the mesh, not a change: it stays the caller's */
+  if (made) mesh_derived_set((Mesh *)m, &neighbours_tag, made, walk_neighbours_free);
+  else a->own = in.fill;   /* this frame's alone */
 }
 
 void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, int apron, int nthreads) {
@@ -199,13 +217,27 @@ void aa_frame_init(AaFrame *af, const RenderFrame *f, RastVert *const *verts, in
 
 void aa_frame_free(AaFrame *af) {
   for (int i = 0; i < af->nobjects; i++) {
-    free(af->objects[i].adj);
+    free(af->objects[i].own);
+    free(af->objects[i].away);
   }
   free(af->objects);
   memset(af, 0, sizeof *af);
 }
 
 /* ---- the walk -------------------------------------------------------------- */
+
+/* The triangle across edge k of triangle t of o the walk goes on into, or
+** -1 where it stops: the surface ends, turns away (an outline) or its
+** shading jumps, or t lies wholly away from the window. */
+static inline int wholly_away(const AaObject *o, int t) {
+  const int *c = o->tri[t];
+  return o->away && (o->away[c[0]] & o->away[c[1]] & o->away[c[2]]);
+}
+
+static inline int walk_next(const AaObject *o, int t, int k) {
+  int g = o->nb[t][k];
+  return g < 0 || o->back[g] != o->back[t] || wholly_away(o, t) ? -1 : g;
+}
 
 typedef enum { WALK_FAIL, WALK_SAME, WALK_EDGE, WALK_PAST } WalkKind;
 
@@ -220,7 +252,7 @@ typedef struct Walk {
 ** unit segment to the neighbouring centre one step along axis (0: x, 1:
 ** y) in direction dir (+1 or -1): WALK_SAME when it reaches triangle goal
 ** (the neighbour's, when it shows the same object; else -1), WALK_EDGE
-** at the first edge where the walk stops (adj -1), WALK_PAST when the
+** at the first edge where the walk stops (walk_next -1), WALK_PAST when the
 ** segment ends inside a triangle that is not goal, WALK_FAIL on a
 ** triangle it cannot follow (not projected, degenerate, too far). */
 static Walk walk(const AaObject *o, int tri, float cx, float cy, int axis, float dir, int goal) {
@@ -248,7 +280,7 @@ static Walk walk(const AaObject *o, int tri, float cx, float cy, int axis, float
     }
     if (kb < 0) return w;
     if (best >= 1) { w.kind = WALK_PAST; w.tri = tri; return w; }
-    int next = o->adj[tri][kb];
+    int next = walk_next(o, tri, kb);
     if (next < 0) {
       w.kind = WALK_EDGE;
       w.s = best > 0 ? best : 0;
@@ -256,8 +288,9 @@ static Walk walk(const AaObject *o, int tri, float cx, float cy, int axis, float
       w.ey = v[(kb + 1) % 3][1] - v[kb][1];
       return w;
     }
-    entry = -1;
-    for (int k = 0; k < 3; k++) entry = o->adj[next][k] == tri ? k : entry;
+    entry = -1;   /* the edge back to tri (the same facing as next): none from a triangle away */
+    for (int k = 0; k < 3; k++) entry = o->nb[next][k] == tri ? k : entry;
+    if (wholly_away(o, next)) entry = -1;
     tri = next;
   }
   return w;
@@ -312,7 +345,8 @@ static int clear_sample(const AaFrame *af, int32_t obj) {
 }
 
 static int adjacent(const AaObject *o, int f, int g) {
-  return o->adj[f][0] == g || o->adj[f][1] == g || o->adj[f][2] == g;
+  const int32_t *n = o->nb[f];   /* g is a triangle: walk_next(o, f, k) == g */
+  return (n[0] == g || n[1] == g || n[2] == g) && o->back[g] == o->back[f] && !wholly_away(o, f);
 }
 
 /* Whether samples i and j of rt show one smooth surface: the same object,

@@ -41,8 +41,12 @@
 typedef struct AaObject {
   const int (*tri)[3];
   const RastVert *rv;      /* per vertex, as the rasterizer projected it (aa_vertex) */
-  int32_t (*adj)[3];       /* per triangle, edge k (corners k, k + 1): the triangle across
+  const int32_t (*nb)[3];  /* per triangle, edge k (corners k, k + 1): the triangle across
                               it, or -1 where the surface ends or its shading jumps */
+  const unsigned char *back;   /* per triangle: it faces away (RenderObject.backfacing) */
+  unsigned char *away;     /* per vertex: the sides of the window it lies beyond, or NULL
+                              when none does (a triangle beyond one is walked no further) */
+  int32_t (*own)[3];       /* nb when made for this frame alone, or NULL */
   int clear;               /* its samples are transparent (shade ink: the canvas paints it
                               later), as the background is: between such, nothing to blend */
 } AaObject;
