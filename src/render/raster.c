@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../base/mem.h"
 
@@ -37,7 +38,7 @@ static double plane_dist(const ClipVert *v, int plane, double gx, double gy) {
 }
 
 /* Bit p set when v is outside plane p (plane_dist, unrolled). */
-static unsigned outcode(const ClipVert *v, double gx, double gy) {
+static inline unsigned outcode(const ClipVert *v, double gx, double gy) {
   const double *h = v->h;
   return (unsigned)(h[2] + h[3] < 0) | (unsigned)(h[3] - h[2] < 0) << 1 |
          (unsigned)(gx * h[3] + h[0] < 0) << 2 | (unsigned)(gx * h[3] - h[0] < 0) << 3 |
@@ -83,7 +84,7 @@ static inline int64_t snap(double v) {
 }
 
 /* Pixel position on the grid, depth and 1 / w of clip (w > 0), into v. */
-static void project(RastVert *v, const double clip[4], int width, int height) {
+static inline void project(RastVert *v, const double clip[4], int width, int height) {
   double inv = 1.0 / clip[3];
   v->X = (int32_t)snap((clip[0] * inv + 1) * 0.5 * width * SUB);   /* NDC -> pixel, on the grid */
   v->Y = (int32_t)snap((1 - clip[1] * inv) * 0.5 * height * SUB);
@@ -93,15 +94,22 @@ static void project(RastVert *v, const double clip[4], int width, int height) {
 
 /* rast_vertex with the guard band's gx, gy worked out. */
 static inline void vertex_in(RastVert *v, const double clip[4], double gx, double gy, int width, int height) {
-  ClipVert cv = {{clip[0], clip[1], clip[2], clip[3]}, {0, 0}};
-  if (!(isfinite(clip[0]) && isfinite(clip[1]) && isfinite(clip[2]) && isfinite(clip[3]))) {
+  /* x - x is 0 for a finite x, NaN for a NaN or an infinity */
+  if (!((clip[0] - clip[0]) + (clip[1] - clip[1]) + (clip[2] - clip[2]) + (clip[3] - clip[3]) == 0)) {
     v->outcode = RAST_INVALID;   /* NaN or infinite: its triangles are dropped */
     v->X = v->Y = 0; v->z = v->iw = 0;
     return;
   }
+  ClipVert cv = {{clip[0], clip[1], clip[2], clip[3]}, {0, 0}};
   v->outcode = outcode(&cv, gx, gy);
   if (v->outcode) { v->X = v->Y = 0; v->z = v->iw = 0; return; }
   project(v, clip, width, height);
+}
+
+/* rast_clip_point, inline for rast_vertices' loop. */
+static inline void clip_point(double clip[4], const double m[4][4], const float pos[3]) {
+  double x = pos[0], y = pos[1], z = pos[2];
+  for (int i = 0; i < 4; i++) clip[i] = m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
 }
 
 void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
@@ -110,16 +118,15 @@ void rast_vertex(RastVert *v, const double clip[4], int width, int height) {
   vertex_in(v, clip, gx, gy, width, height);
 }
 
-void rast_clip_point(double clip[4], const double m[4][4], const float pos[3]) {
-  double x = pos[0], y = pos[1], z = pos[2];
-  for (int i = 0; i < 4; i++) clip[i] = m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
-}
+void rast_clip_point(double clip[4], const double m[4][4], const float pos[3]) { clip_point(clip, m, pos); }
 
 void rast_vertices(RastVert *out, const float (*pos)[3], int n, const double m[4][4], int width, int height) {
   double gx = 1 + 2.0 * RAST_GUARD_PX / width, gy = 1 + 2.0 * RAST_GUARD_PX / height;
+  double mm[4][4];   /* in a local: a store to out could alias m */
+  memcpy(mm, m, sizeof mm);
   for (int v = 0; v < n; v++) {
     double clip[4];
-    rast_clip_point(clip, m, pos[v]);
+    clip_point(clip, (const double(*)[4])mm, pos[v]);
     vertex_in(&out[v], clip, gx, gy, width, height);
   }
 }

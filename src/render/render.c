@@ -679,9 +679,8 @@ static void project_chunk(void *ctx, int k) {
 /* Is a triangle none of whose vertices needs clipping wholly outside the
 ** window and its apron (a sample's margin more for the fill rule)?
 ** Leaving it out changes no sample the window's tiles draw: the bins keep
-** the others in order. */
+** the others in order. Only asked when the window is not the whole grid. */
 static int outside_window(const SetupJob *job, const RastVert *const tv[3]) {
-  if (job->wx0 == 0 && job->wy0 == 0 && job->wx1 == job->gw && job->wy1 == job->gh) return 0;
   if (tv[0]->outcode | tv[1]->outcode | tv[2]->outcode) return 0;
   int64_t x0 = tv[0]->X, x1 = x0, y0 = tv[0]->Y, y1 = y0;
   for (int k = 1; k < 3; k++) {
@@ -729,11 +728,14 @@ static void emit_chunk(void *ctx, int k) {
   tris->tris = xmalloc((size_t)tris->cap * sizeof *tris->tris);
   list->boxes = xmalloc((size_t)list->cap * sizeof *list->boxes);
   list->lazy = xmalloc((size_t)list->lazy_cap * sizeof *list->lazy);
+  /* in locals: a store to the lists could alias them */
+  int cull = o->cull_back, windowed = !(job->wx0 == 0 && job->wy0 == 0 && job->wx1 == job->gw && job->wy1 == job->gh);
+  const unsigned char *backfacing = o->backfacing;
   for (int t = c->start; t < c->end; t++) {
-    if (o->cull_back && o->backfacing[t]) continue;   /* hidden by the object's front */
+    if (cull && backfacing[t]) continue;   /* hidden by the object's front */
     const RastVert *tv[3] = {&rv[m->tri[t][0]], &rv[m->tri[t][1]], &rv[m->tri[t][2]]};
-    if (outside_window(job, tv)) continue;
-    int back = o->backfacing[t];
+    if (windowed && outside_window(job, tv)) continue;
+    int back = backfacing[t];
     if (back && !(tv[0]->outcode | tv[1]->outcode | tv[2]->outcode)) {
       /* A back face is drawn after the front ones and mostly hidden by
       ** them (raster_items skips it on its depth bound): work out only its
