@@ -2,10 +2,11 @@
 ** The reference image: every important edge sampled at points of its
 ** exact projected line, one a step of its walk; the samples binned into
 ** tiles; every triangle of every mesh tested at the samples of the tiles
-** it reaches (the nearest wins); then each sample found visible or hidden
-** by the offset rule of edgeref.h. Work is split into bands of tile rows;
-** each band sees every triangle in the same order, so the result never
-** depends on the number of workers.
+** it reaches as it is met (the nearest wins, the first of equals); then
+** each sample found visible or hidden by the offset rule of edgeref.h.
+** Work is split into runs of triangles; each worker keeps its own nearest
+** surfaces, and they are merged by nearness and then triangle order, so
+** the result never depends on the number of workers.
 */
 #include "edgeref.h"
 
@@ -25,7 +26,7 @@
 ** instructions where 2x2 took 67M; that teapot at 7680x4320, 16x16), and
 ** there are at most LINE_REF_MAX_TILES. Which triangle a sample finds does
 ** not depend on the tiles (every triangle reaching a sample is tested
-** there, in list order). */
+** there, in order). */
 #define LINE_REF_TILE_BITS 1
 #define LINE_REF_MAX_TILES (1 << 20)
 
@@ -36,228 +37,6 @@ static int tile_bits(int w, int h, double mean_span) {
   return bits;
 }
 
-/* ---- screen triangles ---------------------------------------------------- */
-
-/* A triangle ready to rasterize: pixel positions, nearness, the offset its
-** depth is pushed back by, and the object it belongs to. */
-typedef struct ScreenTri {
-  float x[3], y[3], n[3];
-  float off;
-  float nmax;                /* no point it covers is nearer (its corners' greatest
-                                nearness and the rounding of the sample test) */
-  int obj, tri;              /* object index, mesh triangle */
-  int ymin, ymax;            /* rows it may cover */
-} ScreenTri;
-
-typedef struct TriList { int n, cap; ScreenTri *t; } TriList;
-
-/* Which tiles hold samples: the summed-area table (tw + 1) x (th + 1) of
-** them; NULL keeps every triangle. */
-typedef struct TileSat {
-  int tw, th, bits;
-  const int *sat;
-  const int *tile;   /* tw * th: the tile's first sample, -1 = none */
-  const unsigned char *block;   /* tw * th: which of tiles (tx, ty), (tx + 1, ty), (tx, ty + 1)
-                                   and (tx + 1, ty + 1) hold samples, bits 0 to 3 */
-} TileSat;
-
-/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold samples? */
-static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
-  if (tx0 < 0) tx0 = 0;
-  if (ty0 < 0) ty0 = 0;
-  if (tx1 >= m->tw) tx1 = m->tw - 1;
-  if (ty1 >= m->th) ty1 = m->th - 1;
-  if (tx0 > tx1 || ty0 > ty1) return 0;
-  int W = m->tw + 1;
-  return m->sat[(ty1 + 1) * W + tx1 + 1] - m->sat[ty0 * W + tx1 + 1] - m->sat[(ty1 + 1) * W + tx0] +
-         m->sat[ty0 * W + tx0] > 0;
-}
-
-/* Append the triangle p (x0 y0 n0 x1 y1 n1 x2 y2 n2: pixels and
-** nearness), whose rows span [ymin, ymax], if it has area. */
-static void append_tri(TriList *l, const float *p, double ymin, double ymax, int obj, int tri,
-                       double factor, int w, int h) {
-  double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
-  double det = ax * by - ay * bx;
-  if (!(fabs(det) > 1e-12)) return;
-  double an = p[5] - p[2], bn = p[8] - p[2];
-  double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
-  if (l->n == l->cap) l->t = xgrow(l->t, &l->cap, l->n + 1, sizeof *l->t);
-  ScreenTri *t = &l->t[l->n++];
-  for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
-  /* polygon offset: factor times the depth slope, plus a few ulps */
-  t->off = (float)(factor * (fabs(dndx) + fabs(dndy))) + LINE_DEPTH_EPS;
-  /* n at a sample is the plane through the corners evaluated in doubles
-  ** (tri_test, test_tile): within the corners' range but for rounding,
-  ** which grows with the slope times the coordinates' size (generously
-  ** bounded here: 1e-12 against double's 1e-16), and for the float
-  ** rounding of the result (1e-6: ulps of nearness <= 1). Not finite
-  ** (a huge triangle): no bound. */
-  float nm = p[2] > p[5] ? p[2] : p[5];
-  nm = p[8] > nm ? p[8] : nm;
-  double reach = w + h + fabs(p[0]) + fabs(p[1]) + fabs(p[3]) + fabs(p[4]) + fabs(p[6]) + fabs(p[7]);
-  double bound = nm + 1e-6 + 1e-12 * (fabs(dndx) + fabs(dndy) + 1) * reach;
-  t->nmax = isfinite(bound) ? (float)bound : INFINITY;
-  t->obj = obj;
-  t->tri = tri;
-  /* (int)fmax(0, floor(ymin)) and (int)fmin(h - 1, ceil(ymax)) without the
-  ** calls: the callers have ymin <= h and ymax >= 0 (or NaN) */
-  t->ymin = ymin > 0 ? (int)ymin : 0;
-  t->ymax = h - 1;
-  if (ymax < h - 1) {
-    t->ymax = (int)ymax;
-    if (t->ymax < ymax) t->ymax++;
-  }
-}
-
-/* Append the triangle p (as append_tri) if it has area and reaches a tile
-** with samples (any tile when m is NULL). */
-static void push_tri(TriList *l, const float *p, int obj, int tri, double factor, int w, int h,
-                     const TileSat *m) {
-  double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
-  double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
-  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
-  if (m && !sat_any(m, (int)fmax(0, xmin) >> m->bits, (int)fmax(0, ymin) >> m->bits,
-                    (int)fmin(w - 1, xmax) >> m->bits, (int)fmin(h - 1, ymax) >> m->bits))
-    return;   /* no edge near it: nothing will test against it */
-  append_tri(l, p, ymin, ymax, obj, tri, factor, w, h);
-}
-
-/* Clip the triangle c[3] against the near plane (z >= -w) and append the
-** pieces. */
-static void add_clipped(TriList *l, const double *c[3], int obj, int tri, double factor, int w, int h,
-                        const TileSat *m) {
-  double poly[4][4];
-  int np = 0;
-  for (int k = 0; k < 3; k++) {
-    const double *a = c[k], *b = c[(k + 1) % 3];
-    double da = a[2] + a[3], db = b[2] + b[3];   /* >= 0 in front of the near plane */
-    if (da >= 0) memcpy(poly[np++], a, sizeof poly[0]);
-    if ((da >= 0) != (db >= 0)) {
-      double t = da / (da - db);
-      for (int j = 0; j < 4; j++) poly[np][j] = a[j] + t * (b[j] - a[j]);
-      np++;
-    }
-  }
-  if (np < 3) return;
-  float s[4][3];
-  for (int k = 0; k < np; k++) {
-    if (!(poly[k][3] > 0)) return;
-    line_clip_to_screen(poly[k], w, h, &s[k][0], &s[k][1], &s[k][2]);
-  }
-  for (int k = 1; k + 1 < np; k++) {
-    float p[9] = {s[0][0], s[0][1], s[0][2], s[k][0], s[k][1], s[k][2],
-                  s[k + 1][0], s[k + 1][1], s[k + 1][2]};
-    push_tri(l, p, obj, tri, factor, w, h, m);
-  }
-}
-
-/* Triangle t of object obj whose corners are all in front of the near
-** plane (LineVert.in): what add_clipped does for it (the polygon is the
-** triangle itself), with the cheap rejections (off the image, no tile
-** with samples) before the slope arithmetic of append_tri. */
-static void add_front(TriList *l, const LineVert *a, const LineVert *b, const LineVert *c,
-                      int obj, int tri, double factor, int w, int h, const TileSat *m) {
-  /* the corners are finite (LineVert.in), so plain comparisons give
-  ** what fmin and fmax give */
-  float ymin = a->y < b->y ? a->y : b->y, ymax = a->y < b->y ? b->y : a->y;
-  float xmin = a->x < b->x ? a->x : b->x, xmax = a->x < b->x ? b->x : a->x;
-  if (c->y < ymin) ymin = c->y;
-  if (c->y > ymax) ymax = c->y;
-  if (c->x < xmin) xmin = c->x;
-  if (c->x > xmax) xmax = c->x;
-  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
-  if (m && !sat_any(m, (int)(xmin > 0 ? xmin : 0) >> m->bits,
-                    (int)(ymin > 0 ? ymin : 0) >> m->bits,
-                    (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> m->bits,
-                    (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> m->bits))
-    return;
-  float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
-  append_tri(l, p, ymin, ymax, obj, tri, factor, w, h);   /* box and tiles checked */
-}
-
-/* No tile: a vertex that is not LineVert.in (its triangles are clipped). */
-#define NO_TILE 0xffffffffu
-
-/* The tile column and row (16 bits each) of each of m's vertices, clamped
-** to the image: those of a triangle's box are the least and greatest of
-** its corners'. */
-static uint32_t *vertex_tiles(const LineVert *v, int nverts, int w, int h, int bits) {
-  uint32_t *code = xmalloc(((size_t)nverts + 1) * sizeof *code);   /* every entry written below */
-  float xm = (float)(w - 1), ym = (float)(h - 1);
-  for (int k = 0; k < nverts; k++) {
-    float x = v[k].x < 0 ? 0 : v[k].x > xm ? xm : v[k].x;
-    float y = v[k].y < 0 ? 0 : v[k].y > ym ? ym : v[k].y;
-    code[k] = v[k].in ? (uint32_t)((int)y >> bits) << 16 | (uint32_t)((int)x >> bits) : NO_TILE;
-  }
-  return code;
-}
-
-/* Can a triangle with corner tiles a, b, c (vertex_tiles) be skipped
-** without a look at its box? When its tiles lie in two columns and two
-** rows at most and none of those holds samples: its box covers just
-** those, so sat_any would find none either. */
-static inline int far_from_samples(uint32_t a, uint32_t b, uint32_t c, const TileSat *m) {
-  if ((a == NO_TILE) | (b == NO_TILE) | (c == NO_TILE)) return 0;
-  uint32_t ax = a & 0xffff, bx = b & 0xffff, cx = c & 0xffff, ay = a >> 16, by = b >> 16, cy = c >> 16;
-  uint32_t x0 = ax < bx ? ax : bx, x1 = ax < bx ? bx : ax, y0 = ay < by ? ay : by, y1 = ay < by ? by : ay;
-  x0 = cx < x0 ? cx : x0;
-  x1 = cx > x1 ? cx : x1;
-  y0 = cy < y0 ? cy : y0;
-  y1 = cy > y1 ? cy : y1;
-  uint32_t dx = x1 - x0, dy = y1 - y0;
-  if ((dx | dy) > 1) return 0;
-  unsigned covered = 1u | dx << 1 | dy << 2 | (dx & dy) << 3;   /* the block's tiles the box covers */
-  return !(m->block[y0 * (uint32_t)m->tw + x0] & covered);
-}
-
-/* Is the box r (LineObjEdges.cluster) of a run of triangles off the image
-** or clear of every tile with samples? Then so is each of its triangles'
-** boxes, and none of them is kept. */
-static inline int far_cluster(const float r[4], int w, int h, const TileSat *m) {
-  if (r[3] < 0 || r[1] > h || r[2] < 0 || r[0] > w) return 1;
-  return !sat_any(m, (int)(r[0] > 0 ? r[0] : 0) >> m->bits, (int)(r[1] > 0 ? r[1] : 0) >> m->bits,
-                  (int)(r[2] < w - 1 ? r[2] : (float)(w - 1)) >> m->bits,
-                  (int)(r[3] < h - 1 ? r[3] : (float)(h - 1)) >> m->bits);
-}
-
-/* Every triangle of every object that reaches a tile of sat, with the
-** offset its object's edges get from it, but for the back faces an
-** object's own front hides (LineObject.hidden). The vertices are the ones
-** line_edges_build projected; only triangles with a corner behind the
-** near plane go through add_clipped. Most triangles of a large mesh are
-** far from every edge: the tiles of their corners say so (far_from_samples)
-** before their box is made. */
-static void collect_tris(TriList *l, const LineEdges *edges, const LineObject *objs, int w, int h,
-                         const TileSat *sat) {
-  for (int i = 0; i < edges->nobj; i++) {
-    const Mesh *m = objs[i].mesh;
-    const LineVert *v = edges->obj[i].vert;
-    const SceneLines *ls = objs[i].lines;
-    double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
-    if (!(factor > 0)) factor = 0;
-    uint32_t *code = sat ? vertex_tiles(v, m->nverts, w, h, sat->bits) : NULL;
-    const unsigned char *hidden = objs[i].hidden;
-    const float(*cl)[4] = edges->obj[i].cluster;
-    for (int t0 = 0; t0 < m->ntris; t0 += LINE_CLUSTER_TRIS) {
-      if (cl && sat && far_cluster(cl[t0 / LINE_CLUSTER_TRIS], w, h, sat)) continue;   /* the whole run */
-      int t1 = t0 + LINE_CLUSTER_TRIS < m->ntris ? t0 + LINE_CLUSTER_TRIS : m->ntris;
-      for (int t = t0; t < t1; t++) {
-        if (hidden && hidden[t]) continue;   /* behind the object's own front */
-        const int *tv = m->tri[t];
-        if (code && far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], sat)) continue;
-        const LineVert *a = &v[tv[0]], *b = &v[tv[1]], *c = &v[tv[2]];
-        if (a->in & b->in & c->in) {
-          add_front(l, a, b, c, i, t, factor, w, h, sat);
-        } else {
-          const double *cc[3] = {a->clip, b->clip, c->clip};
-          add_clipped(l, cc, i, t, factor, w, h, sat);
-        }
-      }
-    }
-    free(code);
-  }
-}
 
 /* ---- edge spans ---------------------------------------------------------- */
 
@@ -315,12 +94,12 @@ static void make_span(LineSpan *s, const LineVert *a, const LineVert *b, int w, 
   s->nsteps = (ax > ay ? ax : ay) + 1;
 }
 
+
 /* ---- samples ------------------------------------------------------------- */
 
 /* The sample points of every walk, grouped by tile: sample k lies on the
 ** line of edge id[k] at x[k], y[k] with nearness nr[k], and decides step
-** step[k] of that edge's walk; near[k] and tri[k] are the nearest surface
-** found there so far (0 and -1: none). */
+** step[k] of that edge's walk. */
 typedef struct Samples {
   int tw, th, bits;    /* tiles of 2^bits pixels (tile_bits) */
   int *first;          /* tw * th + 1: tile t holds samples [first[t], first[t + 1]) */
@@ -330,8 +109,6 @@ typedef struct Samples {
   int *row_tx;
   int n;               /* at most LINE_MAX_STEPS */
   float *x, *y, *nr;
-  float *near;
-  int *tri;
   int *id, *step;      /* the edge, and the step of its walk */
 } Samples;
 
@@ -396,8 +173,6 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
   sm->x = xmalloc(n * sizeof *sm->x);
   sm->y = xmalloc(n * sizeof *sm->y);
   sm->nr = xmalloc(n * sizeof *sm->nr);
-  sm->near = xcalloc(n, sizeof *sm->near);
-  sm->tri = xmalloc(n * sizeof *sm->tri);
   sm->id = xmalloc(n * sizeof *sm->id);
   sm->step = xmalloc(n * sizeof *sm->step);
   int *at = xmalloc((nt ? nt : 1) * sizeof *at);   /* the next free slot of each tile */
@@ -410,7 +185,6 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
       sm->x[s] = x;
       sm->y[s] = y;
       sm->nr[s] = nr;
-      sm->tri[s] = -1;
       sm->id[s] = i + 1;
       sm->step[s] = k;
     }
@@ -433,31 +207,55 @@ static unsigned char *tile_blocks(const Samples *sm) {
 
 static void samples_free(Samples *sm) {
   free(sm->first); free(sm->tile); free(sm->row_start); free(sm->row_tx);
-  free(sm->x); free(sm->y); free(sm->nr); free(sm->near); free(sm->tri); free(sm->id); free(sm->step);
+  free(sm->x); free(sm->y); free(sm->nr); free(sm->id); free(sm->step);
+}
+
+/* Which tiles hold samples: the summed-area table (tw + 1) x (th + 1) of
+** them. */
+typedef struct TileSat {
+  int tw, th, bits;
+  const int *sat;
+  const int *tile;   /* tw * th: the tile's first sample, -1 = none */
+  const unsigned char *block;   /* tw * th: which of tiles (tx, ty), (tx + 1, ty), (tx, ty + 1)
+                                   and (tx + 1, ty + 1) hold samples, bits 0 to 3 */
+} TileSat;
+
+/* Does any tile in columns [tx0, tx1] and rows [ty0, ty1] hold samples? */
+static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) {
+  if (tx0 < 0) tx0 = 0;
+  if (ty0 < 0) ty0 = 0;
+  if (tx1 >= m->tw) tx1 = m->tw - 1;
+  if (ty1 >= m->th) ty1 = m->th - 1;
+  if (tx0 > tx1 || ty0 > ty1) return 0;
+  int W = m->tw + 1;
+  return m->sat[(ty1 + 1) * W + tx1 + 1] - m->sat[ty0 * W + tx1 + 1] - m->sat[(ty1 + 1) * W + tx0] +
+         m->sat[ty0 * W + tx0] > 0;
 }
 
 /* ---- the test ------------------------------------------------------------- */
 
-/* What the depth test of an edge needs to know about it. */
-typedef struct EdgeInfo {
-  unsigned char facing;     /* bit 0: a face of it looks at the viewer, bit 1: one looks away */
-} EdgeInfo;
+/* The nearest surface one worker found so far at each sample: its
+** nearness there, its offset (ScreenTri.off) and its key (the order of
+** the triangles met: object << 32 | mesh triangle << 1 | piece, the
+** piece of a triangle cut by the near plane), or NO_PIECE. The nearness
+** starts at the sample's own: a surface no nearer than the sample cannot
+** hide it, whichever is nearest, and is passed over. */
+typedef struct Nearest {
+  float *near, *off;
+  uint64_t *key;
+} Nearest;
 
-typedef struct RefJob {
-  LineRef *ref;
-  const TriList *tris;
-  const LineEdges *edges;
-  const EdgeInfo *info;     /* per id - 1 */
-  Samples *sm;
-  int nbands;
-  int **count;              /* per band: visible steps per id - 1 */
-} RefJob;
+#define NO_PIECE UINT64_MAX
 
-/* Tile rows [*ty0, *ty1) of a band: bands never share a tile. */
-static void band_tiles(int th, int nbands, int band, int *ty0, int *ty1) {
-  *ty0 = (int)((long long)th * band / nbands);
-  *ty1 = (int)((long long)th * (band + 1) / nbands);
-}
+/* A triangle (or a piece of one cut by the near plane) ready to test:
+** pixel positions, nearness, the offset its depth is pushed back by. */
+typedef struct ScreenTri {
+  float x[3], y[3], n[3];
+  float off;
+  float nmax;                /* no point it covers is nearer (its corners' greatest
+                                nearness and the rounding of the sample test) */
+  int ymin, ymax;            /* rows it may cover */
+} ScreenTri;
 
 /* A triangle as the sample test wants it: three sides e with
 ** a[e] x + b[e] y + c[e] >= 0 inside (in either winding), and its
@@ -512,28 +310,30 @@ static void slab_extent(const ScreenTri *t, float ya, float yb, float *lo, float
 }
 
 /* The samples of tile (whose first sample is at index tile's) that t (as
-** q) covers, sides included, nearer than what was found there: t is the
-** samples' surface now. */
-static void test_tile(const TriTest *q, int k, Samples *sm, int tile) {
+** q) covers, sides included, nearer than what f found there: t (key,
+** offset off) is their surface now. */
+static void test_tile(const TriTest *q, float off, uint64_t key, const Samples *sm, Nearest *f,
+                      int tile) {
   for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++) {
     double x = sm->x[s], y = sm->y[s];
     float n = (float)(q->na * x + q->nb * y + q->nc);
-    if (!(n > sm->near[s])) continue;   /* no nearer there (cheaper than the sides) */
+    if (!(n > f->near[s])) continue;   /* no nearer there (cheaper than the sides) */
     if (q->a[0] * x + q->b[0] * y + q->c[0] < 0 || q->a[1] * x + q->b[1] * y + q->c[1] < 0 ||
         q->a[2] * x + q->b[2] * y + q->c[2] < 0)
       continue;
-    sm->near[s] = n;
-    sm->tri[s] = k;
+    f->near[s] = n;
+    f->off[s] = off;
+    f->key[s] = key;
   }
 }
 
 /* May a triangle no point of which is nearer than nmax be the nearest
-** surface found at a sample of tile? Only where what was found so far is
+** surface found at a sample of tile? Only where what f found so far is
 ** less near: elsewhere test_tile would change nothing, and the triangle's
 ** set-up (tri_test) is not needed. */
-static inline int tile_may_win(const Samples *sm, int tile, float nmax) {
+static inline int tile_may_win(const Samples *sm, const Nearest *f, int tile, float nmax) {
   for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++)
-    if (sm->near[s] < nmax) return 1;
+    if (f->near[s] < nmax) return 1;
   return 0;
 }
 
@@ -547,18 +347,18 @@ static int first_column(const int *row_tx, int a, int b, int tx) {
   return a;
 }
 
-/* Triangle k (t) at the samples of tile rows [ty0, ty1) of its box: where
-** it covers a sample (its sides included) nearer than what was found
-** there, it is the sample's surface. A wide box goes row by row
-** (LINE_REF_WIDE), visiting the tiles with samples that the triangle's
-** extent over the row reaches (LINE_REF_SLACK wider). */
-static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, int w) {
-  float xmin = fminf(t->x[0], fminf(t->x[1], t->x[2])), xmax = fmaxf(t->x[0], fmaxf(t->x[1], t->x[2]));
+/* Triangle t (key) at the samples of its box, columns from its least and
+** greatest x: where it covers a sample (its sides included) nearer than
+** what f found there, it is the sample's surface. A wide box goes row by
+** row (LINE_REF_WIDE), visiting the tiles with samples that the
+** triangle's extent over the row reaches (LINE_REF_SLACK wider). */
+static void test_tri(const ScreenTri *t, uint64_t key, float xmin, float xmax, const Samples *sm,
+                     Nearest *f, int w) {
   int bits = sm->bits;
-  int tx0 = (int)fmaxf(0, xmin) >> bits, tx1 = (int)fminf((float)(w - 1), xmax) >> bits;
+  /* (int)fmaxf(0, xmin) and (int)fminf(w - 1, xmax), NaN as they take it */
+  int tx0 = (int)(xmin > 0 ? xmin : 0) >> bits, tx1 = (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> bits;
   int ra = t->ymin >> bits, rb = t->ymax >> bits;
-  if (ra < ty0) ra = ty0;
-  if (rb >= ty1) rb = ty1 - 1;
+  if (rb >= sm->th) rb = sm->th - 1;
   if (tx0 > tx1 || ra > rb) return;
   TriTest q;
   int set = 0;   /* most triangles of a box reach no sample: set up on the first */
@@ -566,9 +366,9 @@ static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, i
     for (int ty = ra; ty <= rb; ty++)
       for (int tx = tx0; tx <= tx1; tx++) {
         int tile = ty * sm->tw + tx;
-        if (sm->tile[tile] < 0 || !tile_may_win(sm, tile, t->nmax)) continue;
+        if (sm->tile[tile] < 0 || !tile_may_win(sm, f, tile, t->nmax)) continue;
         if (!set) { tri_test(t, &q); set = 1; }
-        test_tile(&q, k, sm, tile);
+        test_tile(&q, t->off, key, sm, f, tile);
       }
     return;
   }
@@ -586,67 +386,326 @@ static void test_tri(const ScreenTri *t, int k, Samples *sm, int ty0, int ty1, i
     if (hi < (float)((c1 + 1) << bits)) c1 = hi < 0 ? -1 : (int)hi >> bits;
     for (int i = first_column(sm->row_tx, a, b, c0); i < b && sm->row_tx[i] <= c1; i++) {
       int tile = ty * sm->tw + sm->row_tx[i];
-      if (!tile_may_win(sm, tile, t->nmax)) continue;
+      if (!tile_may_win(sm, f, tile, t->nmax)) continue;
       if (!set) { tri_test(t, &q); set = 1; }
-      test_tile(&q, k, sm, tile);
+      test_tile(&q, t->off, key, sm, f, tile);
     }
   }
 }
 
-/* May triangle t push its depth back for an edge facing as facing? When it
-** faces the viewer as one of the edge's faces does (front or back). A face
-** turned the other way occludes at its true depth, so an edge on the far
-** side of an object does not leak out from behind a silhouette or a
-** corner. */
-static int lenient(const RefJob *j, const ScreenTri *t, unsigned facing) {
-  return (facing & (j->edges->obj[t->obj].front[t->tri] ? 1 : 2)) != 0;
-}
+/* ---- triangles ------------------------------------------------------------ */
 
-/* Decide sample s: visible where the nearest surface found there (pushed
-** back by its offset when lenient) does not hide it. */
-static void decide(const RefJob *j, int s, int *count) {
-  const Samples *sm = j->sm;
-  float n = sm->nr[s], limit = sm->near[s];
-  if (n <= 0) return;   /* beyond the far plane */
-  int id = sm->id[s];
-  if (sm->tri[s] >= 0) {
-    const ScreenTri *t = &j->tris->t[sm->tri[s]];
-    limit -= lenient(j, t, j->info[id - 1].facing) ? t->off : LINE_DEPTH_EPS;
+/* One worker's pass over some triangles of an object: the samples, the
+** tiles holding them, what it found so far, and the offset factor of the
+** object's edges. */
+typedef struct Tester {
+  const Samples *sm;
+  const TileSat *m;
+  Nearest *f;
+  int w, h;
+  double factor;
+} Tester;
+
+/* Test the triangle p (x0 y0 n0 x1 y1 n1 x2 y2 n2: pixels and nearness),
+** whose rows span [ymin, ymax] and columns [xmin, xmax], if it has area. */
+static void test_piece(const Tester *ts, const float *p, double ymin, double ymax, float xmin,
+                       float xmax, uint64_t key) {
+  int w = ts->w, h = ts->h;
+  double ax = p[3] - p[0], ay = p[4] - p[1], bx = p[6] - p[0], by = p[7] - p[1];
+  double det = ax * by - ay * bx;
+  if (!(fabs(det) > 1e-12)) return;
+  double an = p[5] - p[2], bn = p[8] - p[2];
+  double dndx = (an * by - bn * ay) / det, dndy = (bn * ax - an * bx) / det;
+  ScreenTri st, *t = &st;
+  for (int k = 0; k < 3; k++) { t->x[k] = p[3 * k]; t->y[k] = p[3 * k + 1]; t->n[k] = p[3 * k + 2]; }
+  /* polygon offset: factor times the depth slope, plus a few ulps */
+  t->off = (float)(ts->factor * (fabs(dndx) + fabs(dndy))) + LINE_DEPTH_EPS;
+  /* n at a sample is the plane through the corners evaluated in doubles
+  ** (tri_test, test_tile): within the corners' range but for rounding,
+  ** which grows with the slope times the coordinates' size (generously
+  ** bounded here: 1e-12 against double's 1e-16), and for the float
+  ** rounding of the result (1e-6: ulps of nearness <= 1). Not finite
+  ** (a huge triangle): no bound. */
+  float nm = p[2] > p[5] ? p[2] : p[5];
+  nm = p[8] > nm ? p[8] : nm;
+  double reach = w + h + fabs(p[0]) + fabs(p[1]) + fabs(p[3]) + fabs(p[4]) + fabs(p[6]) + fabs(p[7]);
+  double bound = nm + 1e-6 + 1e-12 * (fabs(dndx) + fabs(dndy) + 1) * reach;
+  t->nmax = isfinite(bound) ? (float)bound : INFINITY;
+  /* (int)fmax(0, floor(ymin)) and (int)fmin(h - 1, ceil(ymax)) without the
+  ** calls: the callers have ymin <= h and ymax >= 0 (or NaN) */
+  t->ymin = ymin > 0 ? (int)ymin : 0;
+  t->ymax = h - 1;
+  if (ymax < h - 1) {
+    t->ymax = (int)ymax;
+    if (t->ymax < ymax) t->ymax++;
   }
-  if (n < limit) return;   /* hidden */
-  j->ref->vis[j->ref->step0[id - 1] + (size_t)sm->step[s]] = 1;
-  count[id - 1]++;
+  test_tri(t, key, xmin, xmax, ts->sm, ts->f, w);
 }
 
-static void ref_band(void *ctx, int band, int worker) {
-  RefJob *j = ctx;
-  Samples *sm = j->sm;
-  int ty0, ty1;
-  band_tiles(sm->th, j->nbands, band, &ty0, &ty1);
-  int y0 = ty0 << sm->bits, y1 = ty1 << sm->bits;
-  for (int i = 0; i < j->tris->n; i++) {
-    const ScreenTri *t = &j->tris->t[i];
-    if (t->ymax >= y0 && t->ymin < y1) test_tri(t, i, sm, ty0, ty1, j->ref->width);
+/* Test the triangle p (as test_piece) if it reaches a tile with samples. */
+static void push_tri(const Tester *ts, const float *p, uint64_t key) {
+  int w = ts->w, h = ts->h;
+  const TileSat *m = ts->m;
+  double ymin = fmin(p[1], fmin(p[4], p[7])), ymax = fmax(p[1], fmax(p[4], p[7]));
+  double xmin = fmin(p[0], fmin(p[3], p[6])), xmax = fmax(p[0], fmax(p[3], p[6]));
+  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (!sat_any(m, (int)fmax(0, xmin) >> m->bits, (int)fmax(0, ymin) >> m->bits,
+               (int)fmin(w - 1, xmax) >> m->bits, (int)fmin(h - 1, ymax) >> m->bits))
+    return;   /* no edge near it: nothing will test against it */
+  test_piece(ts, p, ymin, ymax, (float)xmin, (float)xmax, key);
+}
+
+/* Clip the triangle c[3] (key) against the near plane (z >= -w) and test
+** the pieces. */
+static void add_clipped(const Tester *ts, const double *c[3], uint64_t key) {
+  int w = ts->w, h = ts->h;
+  double poly[4][4];
+  int np = 0;
+  for (int k = 0; k < 3; k++) {
+    const double *a = c[k], *b = c[(k + 1) % 3];
+    double da = a[2] + a[3], db = b[2] + b[3];   /* >= 0 in front of the near plane */
+    if (da >= 0) memcpy(poly[np++], a, sizeof poly[0]);
+    if ((da >= 0) != (db >= 0)) {
+      double t = da / (da - db);
+      for (int j = 0; j < 4; j++) poly[np][j] = a[j] + t * (b[j] - a[j]);
+      np++;
+    }
   }
-  int s0 = sm->first[ty0 * sm->tw], s1 = sm->first[ty1 * sm->tw];
-  for (int s = s0; s < s1; s++) decide(j, s, j->count[band]);
+  if (np < 3) return;
+  float s[4][3];
+  for (int k = 0; k < np; k++) {
+    if (!(poly[k][3] > 0)) return;
+    line_clip_to_screen(poly[k], w, h, &s[k][0], &s[k][1], &s[k][2]);
+  }
+  for (int k = 1; k + 1 < np; k++) {
+    float p[9] = {s[0][0], s[0][1], s[0][2], s[k][0], s[k][1], s[k][2],
+                  s[k + 1][0], s[k + 1][1], s[k + 1][2]};
+    push_tri(ts, p, key | (uint64_t)(k - 1));
+  }
 }
 
-static int band_count(int threads, int tile_rows) {
-  int n = threads > 1 ? threads * 4 : 1;
-  return n > tile_rows ? (tile_rows > 0 ? tile_rows : 1) : n;
+/* A triangle (key) whose corners are all in front of the near plane
+** (LineVert.in): what add_clipped does for it (the polygon is the
+** triangle itself), with the cheap rejections (off the image, no tile
+** with samples) before the slope arithmetic of test_piece. */
+static void add_front(const Tester *ts, const LineVert *a, const LineVert *b, const LineVert *c,
+                      uint64_t key) {
+  int w = ts->w, h = ts->h;
+  const TileSat *m = ts->m;
+  /* the corners are finite (LineVert.in), so plain comparisons give
+  ** what fmin and fmax give */
+  float ymin = a->y < b->y ? a->y : b->y, ymax = a->y < b->y ? b->y : a->y;
+  float xmin = a->x < b->x ? a->x : b->x, xmax = a->x < b->x ? b->x : a->x;
+  if (c->y < ymin) ymin = c->y;
+  if (c->y > ymax) ymax = c->y;
+  if (c->x < xmin) xmin = c->x;
+  if (c->x > xmax) xmax = c->x;
+  if (ymax < 0 || ymin > h || xmax < 0 || xmin > w) return;
+  if (!sat_any(m, (int)(xmin > 0 ? xmin : 0) >> m->bits, (int)(ymin > 0 ? ymin : 0) >> m->bits,
+               (int)(xmax < w - 1 ? xmax : (float)(w - 1)) >> m->bits,
+               (int)(ymax < h - 1 ? ymax : (float)(h - 1)) >> m->bits))
+    return;
+  float p[9] = {a->x, a->y, a->n, b->x, b->y, b->n, c->x, c->y, c->n};
+  test_piece(ts, p, ymin, ymax, xmin, xmax, key);   /* box and tiles checked */
 }
 
-static EdgeInfo *edge_info(const LineEdges *edges) {
-  EdgeInfo *info = xmalloc(((size_t)edges->n + 1) * sizeof *info);
+/* No tile: a vertex that is not LineVert.in (its triangles are clipped). */
+#define NO_TILE 0xffffffffu
+
+/* The tile column and row (16 bits each) of each of m's vertices, clamped
+** to the image: those of a triangle's box are the least and greatest of
+** its corners'. */
+static uint32_t *vertex_tiles(const LineVert *v, int nverts, int w, int h, int bits) {
+  uint32_t *code = xmalloc(((size_t)nverts + 1) * sizeof *code);   /* every entry written below */
+  float xm = (float)(w - 1), ym = (float)(h - 1);
+  for (int k = 0; k < nverts; k++) {
+    float x = v[k].x < 0 ? 0 : v[k].x > xm ? xm : v[k].x;
+    float y = v[k].y < 0 ? 0 : v[k].y > ym ? ym : v[k].y;
+    code[k] = v[k].in ? (uint32_t)((int)y >> bits) << 16 | (uint32_t)((int)x >> bits) : NO_TILE;
+  }
+  return code;
+}
+
+/* Can a triangle with corner tiles a, b, c (vertex_tiles) be skipped
+** without a look at its box? When its tiles lie in two columns and two
+** rows at most and none of those holds samples: its box covers just
+** those, so sat_any would find none either. */
+static inline int far_from_samples(uint32_t a, uint32_t b, uint32_t c, const TileSat *m) {
+  if ((a == NO_TILE) | (b == NO_TILE) | (c == NO_TILE)) return 0;
+  uint32_t ax = a & 0xffff, bx = b & 0xffff, cx = c & 0xffff, ay = a >> 16, by = b >> 16, cy = c >> 16;
+  uint32_t x0 = ax < bx ? ax : bx, x1 = ax < bx ? bx : ax, y0 = ay < by ? ay : by, y1 = ay < by ? by : ay;
+  x0 = cx < x0 ? cx : x0;
+  x1 = cx > x1 ? cx : x1;
+  y0 = cy < y0 ? cy : y0;
+  y1 = cy > y1 ? cy : y1;
+  uint32_t dx = x1 - x0, dy = y1 - y0;
+  if ((dx | dy) > 1) return 0;
+  unsigned covered = 1u | dx << 1 | dy << 2 | (dx & dy) << 3;   /* the block's tiles the box covers */
+  return !(m->block[y0 * (uint32_t)m->tw + x0] & covered);
+}
+
+/* Is the box r (LineObjEdges.cluster) of a run of triangles off the image
+** or clear of every tile with samples? Then so is each of its triangles'
+** boxes, and none of them is tested. */
+static inline int far_cluster(const float r[4], int w, int h, const TileSat *m) {
+  if (r[3] < 0 || r[1] > h || r[2] < 0 || r[0] > w) return 1;
+  return !sat_any(m, (int)(r[0] > 0 ? r[0] : 0) >> m->bits, (int)(r[1] > 0 ? r[1] : 0) >> m->bits,
+                  (int)(r[2] < w - 1 ? r[2] : (float)(w - 1)) >> m->bits,
+                  (int)(r[3] < h - 1 ? r[3] : (float)(h - 1)) >> m->bits);
+}
+
+
+/* Triangles a task tests: a run of whole LINE_CLUSTER_TRIS runs. */
+#define LINE_REF_TASK_TRIS (LINE_CLUSTER_TRIS * 256)
+
+/* The triangles of every object, tested in tasks of LINE_REF_TASK_TRIS
+** (in object and triangle order), each worker into its own Nearest. */
+typedef struct TestJob {
+  const LineEdges *edges;
+  const LineObject *objs;
+  const Samples *sm;
+  const TileSat *m;
+  uint32_t **code;          /* per object: vertex_tiles */
+  int *task0;               /* nobj + 1: object i's tasks are [task0[i], task0[i + 1]) */
+  Nearest *found;           /* per worker */
+  int w, h;
+} TestJob;
+
+/* The polygon offset factor of obj's edges over the surfaces they lie on. */
+static double offset_factor(const LineObject *obj) {
+  const SceneLines *ls = obj->lines;
+  double factor = LINE_DEPTH_OFFSET_BASE + (ls && ls->present ? ls->depth_offset : 0);
+  return factor > 0 ? factor : 0;
+}
+
+/* Task k: its triangles that reach a tile with samples, but for the back
+** faces an object's own front hides (LineObject.hidden). The vertices are
+** the ones line_edges_build projected; only triangles with a corner
+** behind the near plane go through add_clipped. Most triangles of a large
+** mesh are far from every edge: the tiles of their corners say so
+** (far_from_samples) before their box is made, or their run's box
+** (LineObjEdges.cluster) does. */
+static void test_task(void *ctx, int k, int worker) {
+  TestJob *j = ctx;
+  int i = 0;
+  while (k >= j->task0[i + 1]) i++;
+  const Mesh *m = j->objs[i].mesh;
+  const LineVert *v = j->edges->obj[i].vert;
+  const uint32_t *code = j->code[i];
+  const unsigned char *hidden = j->objs[i].hidden;
+  const float(*cl)[4] = j->edges->obj[i].cluster;
+  Tester ts = {j->sm, j->m, &j->found[worker], j->w, j->h, offset_factor(&j->objs[i])};
+  int first = (k - j->task0[i]) * LINE_REF_TASK_TRIS;
+  int last = first + LINE_REF_TASK_TRIS < m->ntris ? first + LINE_REF_TASK_TRIS : m->ntris;
+  for (int t0 = first; t0 < last; t0 += LINE_CLUSTER_TRIS) {
+    if (cl && far_cluster(cl[t0 / LINE_CLUSTER_TRIS], j->w, j->h, j->m)) continue;   /* the whole run */
+    int t1 = t0 + LINE_CLUSTER_TRIS < last ? t0 + LINE_CLUSTER_TRIS : last;
+    for (int t = t0; t < t1; t++) {
+      if (hidden && hidden[t]) continue;   /* behind the object's own front */
+      const int *tv = m->tri[t];
+      if (far_from_samples(code[tv[0]], code[tv[1]], code[tv[2]], j->m)) continue;
+      const LineVert *a = &v[tv[0]], *b = &v[tv[1]], *c = &v[tv[2]];
+      uint64_t key = (uint64_t)i << 32 | (uint64_t)t << 1;
+      if (a->in & b->in & c->in) {
+        add_front(&ts, a, b, c, key);
+      } else {
+        const double *cc[3] = {a->clip, b->clip, c->clip};
+        add_clipped(&ts, cc, key);
+      }
+    }
+  }
+}
+
+/* Nearest records for n samples starting at their own nearness nr. */
+static void nearest_init(Nearest *f, const float *nr, int n) {
+  f->near = xmalloc(((size_t)n + 1) * sizeof *f->near);
+  f->off = xmalloc(((size_t)n + 1) * sizeof *f->off);
+  f->key = xmalloc(((size_t)n + 1) * sizeof *f->key);
+  memcpy(f->near, nr, (size_t)n * sizeof *f->near);
+  for (int s = 0; s < n; s++) f->key[s] = NO_PIECE;
+}
+
+static void nearest_free(Nearest *f) {
+  free(f->near);
+  free(f->off);
+  free(f->key);
+}
+
+/* Into f[0] what the workers f[0..nw) found: per sample the nearest, of
+** equals the first met (the least key), as one worker testing every
+** triangle in order would have found. */
+static void nearest_merge(Nearest *f, int nw, int n) {
+  for (int w = 1; w < nw; w++)
+    for (int s = 0; s < n; s++)
+      if (f[w].near[s] > f[0].near[s] || (f[w].near[s] == f[0].near[s] && f[w].key[s] < f[0].key[s])) {
+        f[0].near[s] = f[w].near[s];
+        f[0].off[s] = f[w].off[s];
+        f[0].key[s] = f[w].key[s];
+      }
+}
+
+/* Test every triangle of objs at the samples of sm (tiles m) on up to
+** threads workers: what was found into *f (nearest_free it). */
+static void test_triangles(Nearest *f, const LineEdges *edges, const LineObject *objs, int w, int h,
+                           const Samples *sm, const TileSat *m, int threads) {
+  TestJob j = {edges, objs, sm, m, xcalloc((size_t)edges->nobj + 1, sizeof *j.code),
+               xcalloc((size_t)edges->nobj + 1, sizeof *j.task0), NULL, w, h};
+  for (int i = 0; i < edges->nobj; i++) {
+    j.code[i] = vertex_tiles(edges->obj[i].vert, objs[i].mesh->nverts, w, h, m->bits);
+    j.task0[i + 1] = j.task0[i] + (objs[i].mesh->ntris + LINE_REF_TASK_TRIS - 1) / LINE_REF_TASK_TRIS;
+  }
+  int ntasks = j.task0[edges->nobj];
+  int nw = threads < ntasks ? threads : ntasks > 0 ? ntasks : 1;
+  j.found = xmalloc((size_t)nw * sizeof *j.found);
+  for (int k = 0; k < nw; k++) nearest_init(&j.found[k], sm->nr, sm->n);
+  line_parallel(ntasks, nw, test_task, &j);
+  nearest_merge(j.found, nw, sm->n);
+  *f = j.found[0];
+  for (int k = 1; k < nw; k++) nearest_free(&j.found[k]);
+  for (int i = 0; i < edges->nobj; i++) free(j.code[i]);
+  free(j.code);
+  free(j.task0);
+  free(j.found);
+}
+
+/* ---- visibility ------------------------------------------------------------ */
+
+/* Which ways the faces of edge id i + 1 look: bit 0, one looks at the
+** viewer; bit 1, one looks away. */
+static unsigned char *edge_facing(const LineEdges *edges) {
+  unsigned char *facing = xmalloc((size_t)edges->n + 1);
   for (int i = 0; i < edges->n; i++) {
     const LineObjEdges *oe = &edges->obj[edges->obj_of[i]];
     const MeshEdge *me = &oe->mesh->edges[edges->edge_of[i]];
-    info[i].facing = 0;
+    facing[i] = 0;
     for (int k = 0; k < 2; k++)
-      if (me->f[k] >= 0) info[i].facing |= oe->front[me->f[k]] ? 1 : 2;
+      if (me->f[k] >= 0) facing[i] |= oe->front[me->f[k]] ? 1 : 2;
   }
-  return info;
+  return facing;
+}
+
+/* Decide every sample of sm from the nearest surface f found there:
+** visible where that surface (pushed back by its offset when it faces the
+** viewer as one of the edge's faces does: it may; a face turned the other
+** way occludes at its true depth, so an edge on the far side of an object
+** does not leak out from behind a silhouette or a corner) does not hide
+** it. */
+static void decide(LineRef *ref, const LineEdges *edges, const Samples *sm, const Nearest *f) {
+  unsigned char *facing = edge_facing(edges);
+  for (int s = 0; s < sm->n; s++) {
+    float n = sm->nr[s], limit = f->near[s];
+    if (n <= 0) continue;   /* beyond the far plane */
+    int id = sm->id[s];
+    if (f->key[s] != NO_PIECE) {
+      int obj = (int)(f->key[s] >> 32), tri = (int)(f->key[s] >> 1 & 0x7fffffff);
+      int lenient = (facing[id - 1] & (edges->obj[obj].front[tri] ? 1 : 2)) != 0;
+      limit -= lenient ? f->off[s] : LINE_DEPTH_EPS;
+    }
+    if (n < limit) continue;   /* hidden */
+    ref->vis[ref->step0[id - 1] + (size_t)sm->step[s]] = 1;
+    ref->count[id - 1]++;
+  }
+  free(facing);
 }
 
 int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs, int width,
@@ -673,23 +732,16 @@ int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs,
   Samples sm;
   int *sat;
   make_samples(&sm, ref, &sat);
-  unsigned char *block = tile_blocks(&sm);
-  TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile, block};
-  TriList tris = {0, 0, NULL};
-  if (sm.n) collect_tris(&tris, edges, objs, width, height, &ts);
-  RefJob job = {ref, &tris, edges, edge_info(edges), &sm, band_count(threads, sm.th), NULL};
-  job.count = xmalloc((size_t)job.nbands * sizeof *job.count);
-  for (int b = 0; b < job.nbands; b++) job.count[b] = xcalloc((size_t)edges->n + 1, sizeof(int));
-  if (sm.n) line_parallel(job.nbands, threads, ref_band, &job);
-  for (int b = 0; b < job.nbands; b++) {
-    for (int i = 0; i < edges->n; i++) ref->count[i] += job.count[b][i];
-    free(job.count[b]);
+  if (sm.n) {
+    unsigned char *block = tile_blocks(&sm);
+    TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile, block};
+    Nearest f;
+    test_triangles(&f, edges, objs, width, height, &sm, &ts, threads);
+    decide(ref, edges, &sm, &f);
+    nearest_free(&f);
+    free(block);
   }
-  free(job.count);
-  free((void *)job.info);
   free(sat);
-  free(block);
-  free(tris.t);
   samples_free(&sm);
   for (int i = 0; i < edges->n; i++)
     if (ref->count[i] > 0) ref->visible[ref->nvisible++] = i + 1;

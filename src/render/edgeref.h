@@ -70,8 +70,8 @@ typedef struct LineRef {
   int *visible;                /* the ids with a visible step, ascending */
 } LineRef;
 
-/* Most points the walks of a frame's edges may have: the test keeps 28
-** bytes for each (1.9 GB at the limit). */
+/* Most points the walks of a frame's edges may have: the test keeps 20
+** bytes for each and 16 more a worker (2.4 GB at the limit on one). */
 #define LINE_MAX_STEPS (1LL << 26)
 
 /* Build the reference image of edges (whose vertices are already projected
