@@ -243,6 +243,7 @@ static inline int sat_any(const TileSat *m, int tx0, int ty0, int tx1, int ty1) 
 typedef struct Nearest {
   float *near, *off;
   uint64_t *key;
+  float *floor;      /* per tile: the least near of its samples (INFINITY without) */
 } Nearest;
 
 #define NO_PIECE UINT64_MAX
@@ -309,11 +310,21 @@ static void slab_extent(const ScreenTri *t, float ya, float yb, float *lo, float
   *hi = h;
 }
 
+/* Nearest.floor of tile: the least near of its samples (a NaN never
+** is: no nearness is nearer than it). */
+static float tile_floor(const Samples *sm, const float *near, int tile) {
+  float m = INFINITY;
+  for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++)
+    if (near[s] < m) m = near[s];
+  return m;
+}
+
 /* The samples of tile (whose first sample is at index tile's) that t (as
 ** q) covers, sides included, nearer than what f found there: t (key,
 ** offset off) is their surface now. */
 static void test_tile(const TriTest *q, float off, uint64_t key, const Samples *sm, Nearest *f,
                       int tile) {
+  int won = 0;
   for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++) {
     double x = sm->x[s], y = sm->y[s];
     float n = (float)(q->na * x + q->nb * y + q->nc);
@@ -324,17 +335,17 @@ static void test_tile(const TriTest *q, float off, uint64_t key, const Samples *
     f->near[s] = n;
     f->off[s] = off;
     f->key[s] = key;
+    won = 1;
   }
+  if (won) f->floor[tile] = tile_floor(sm, f->near, tile);
 }
 
 /* May a triangle no point of which is nearer than nmax be the nearest
 ** surface found at a sample of tile? Only where what f found so far is
-** less near: elsewhere test_tile would change nothing, and the triangle's
-** set-up (tri_test) is not needed. */
-static inline int tile_may_win(const Samples *sm, const Nearest *f, int tile, float nmax) {
-  for (int s = sm->first[tile]; s < sm->first[tile + 1]; s++)
-    if (f->near[s] < nmax) return 1;
-  return 0;
+** less near at some sample: elsewhere test_tile would change nothing, and
+** the triangle's set-up (tri_test) is not needed. */
+static inline int tile_may_win(const Nearest *f, int tile, float nmax) {
+  return f->floor[tile] < nmax;
 }
 
 /* The first index in row_tx[a, b) whose column is at least tx. */
@@ -366,7 +377,7 @@ static void test_tri(const ScreenTri *t, uint64_t key, float xmin, float xmax, c
     for (int ty = ra; ty <= rb; ty++)
       for (int tx = tx0; tx <= tx1; tx++) {
         int tile = ty * sm->tw + tx;
-        if (sm->tile[tile] < 0 || !tile_may_win(sm, f, tile, t->nmax)) continue;
+        if (!tile_may_win(f, tile, t->nmax)) continue;   /* also a tile without samples */
         if (!set) { tri_test(t, &q); set = 1; }
         test_tile(&q, t->off, key, sm, f, tile);
       }
@@ -386,7 +397,7 @@ static void test_tri(const ScreenTri *t, uint64_t key, float xmin, float xmax, c
     if (hi < (float)((c1 + 1) << bits)) c1 = hi < 0 ? -1 : (int)hi >> bits;
     for (int i = first_column(sm->row_tx, a, b, c0); i < b && sm->row_tx[i] <= c1; i++) {
       int tile = ty * sm->tw + sm->row_tx[i];
-      if (!tile_may_win(sm, f, tile, t->nmax)) continue;
+      if (!tile_may_win(f, tile, t->nmax)) continue;
       if (!set) { tri_test(t, &q); set = 1; }
       test_tile(&q, t->off, key, sm, f, tile);
     }
@@ -616,19 +627,23 @@ static void test_task(void *ctx, int k, int worker) {
   }
 }
 
-/* Nearest records for n samples starting at their own nearness nr. */
-static void nearest_init(Nearest *f, const float *nr, int n) {
-  f->near = xmalloc(((size_t)n + 1) * sizeof *f->near);
-  f->off = xmalloc(((size_t)n + 1) * sizeof *f->off);
-  f->key = xmalloc(((size_t)n + 1) * sizeof *f->key);
-  memcpy(f->near, nr, (size_t)n * sizeof *f->near);
-  for (int s = 0; s < n; s++) f->key[s] = NO_PIECE;
+/* Nearest records for the samples of sm, starting at their own nearness. */
+static void nearest_init(Nearest *f, const Samples *sm) {
+  size_t n = (size_t)sm->n, nt = (size_t)sm->tw * sm->th;
+  f->near = xmalloc((n + 1) * sizeof *f->near);
+  f->off = xmalloc((n + 1) * sizeof *f->off);
+  f->key = xmalloc((n + 1) * sizeof *f->key);
+  f->floor = xmalloc((nt + 1) * sizeof *f->floor);
+  memcpy(f->near, sm->nr, n * sizeof *f->near);
+  for (size_t s = 0; s < n; s++) f->key[s] = NO_PIECE;
+  for (size_t t = 0; t < nt; t++) f->floor[t] = tile_floor(sm, f->near, (int)t);
 }
 
 static void nearest_free(Nearest *f) {
   free(f->near);
   free(f->off);
   free(f->key);
+  free(f->floor);
 }
 
 /* Into f[0] what the workers f[0..nw) found: per sample the nearest, of
@@ -657,7 +672,7 @@ static void test_triangles(Nearest *f, const LineEdges *edges, const LineObject 
   int ntasks = j.task0[edges->nobj];
   int nw = threads < ntasks ? threads : ntasks > 0 ? ntasks : 1;
   j.found = xmalloc((size_t)nw * sizeof *j.found);
-  for (int k = 0; k < nw; k++) nearest_init(&j.found[k], sm->nr, sm->n);
+  for (int k = 0; k < nw; k++) nearest_init(&j.found[k], sm);
   line_parallel(ntasks, nw, test_task, &j);
   nearest_merge(j.found, nw, sm->n);
   *f = j.found[0];
