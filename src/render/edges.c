@@ -119,25 +119,30 @@ static void build_adjacency(LineObjEdges *oe, const Mesh *m, const int *imp, int
   oe->adj_start[0] = 0;
 }
 
-/* Clip coordinates and reference pixels of m's vertices, and their world
-** positions into world (unless NULL: nothing needs them). */
-static void project_vertices(LineObjEdges *oe, Vec3 *world, const Mesh *m, Mat4 to_world,
-                             const Camera *cam) {
-  oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);   /* every entry written below */
-  const double(*M)[4] = cam->world_to_clip.m;
-  for (int v = 0; v < m->nverts; v++) {
-    LineVert *lv = &oe->vert[v];
+/* Clip coordinates and reference pixels of m's vertices [v0, v1) into
+** vert, and their world positions into world (unless NULL: nothing needs
+** them). */
+static void project_vertices(LineVert *vert, Vec3 *world, const Mesh *m, Mat4 to_world,
+                             const Camera *cam, int v0, int v1) {
+  Mat4 M = cam->world_to_clip;   /* a copy, which the stores below cannot change */
+  int width = cam->width, height = cam->height;
+  for (int v = v0; v < v1; v++) {
+    LineVert *lv = &vert[v];
     Vec3 p = m4_point(to_world, m->pos[v]);
     if (world) world[v] = p;
-    for (int r = 0; r < 4; r++)   /* clip = world_to_clip * (p, 1) */
-      lv->clip[r] = M[r][0] * p.x + M[r][1] * p.y + M[r][2] * p.z + M[r][3];
-    double w = lv->clip[3];
-    lv->x = lv->y = lv->n = 0;   /* behind the eye */
+    double c[4] = {   /* clip = world_to_clip * (p, 1), row by row */
+        M.m[0][0] * p.x + M.m[0][1] * p.y + M.m[0][2] * p.z + M.m[0][3],
+        M.m[1][0] * p.x + M.m[1][1] * p.y + M.m[1][2] * p.z + M.m[1][3],
+        M.m[2][0] * p.x + M.m[2][1] * p.y + M.m[2][2] * p.z + M.m[2][3],
+        M.m[3][0] * p.x + M.m[3][1] * p.y + M.m[3][2] * p.z + M.m[3][3]};
+    memcpy(lv->clip, c, sizeof c);
+    float x = 0, y = 0, n = 0;   /* behind the eye */
     lv->in = 0;
-    if (w > 0) {
-      line_clip_to_screen(lv->clip, cam->width, cam->height, &lv->x, &lv->y, &lv->n);
-      lv->in = lv->clip[2] + w >= 0 && isfinite(lv->x) && isfinite(lv->y) && isfinite(lv->n);
+    if (c[3] > 0) {
+      line_clip_to_screen(c, width, height, &x, &y, &n);
+      lv->in = c[2] + c[3] >= 0 && isfinite(x) && isfinite(y) && isfinite(n);
     }
+    lv->x = x, lv->y = y, lv->n = n;
   }
 }
 
@@ -155,27 +160,27 @@ static int outside_view(const LineObjEdges *oe, int nverts) {
   return nverts > 0 && all != 0;
 }
 
-/* The side_bits of the triangles of planes plane[0..n) into side, and
+/* The side_bits of the triangles [t0, t1) of planes plane into side, and
 ** which of them the viewer sees the front of (plane_side > 0: SIDE_FRONT
 ** alone) into front. */
-static void face_sides(unsigned char *front, unsigned char *side, const FacePlane *plane, int n,
-                       const Camera *cam) {
+static void face_sides(unsigned char *front, unsigned char *side, const FacePlane *plane, int t0,
+                       int t1, const Camera *cam) {
   Vec3 fwd = cam->forward, eye = cam->eye;
   if (cam->kind == CAMERA_ORTHO) {   /* two loops: no test of the camera in either */
-    for (int t = 0; t < n; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 1, fwd, eye));
+    for (int t = t0; t < t1; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 1, fwd, eye));
   } else {
-    for (int t = 0; t < n; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 0, fwd, eye));
+    for (int t = t0; t < t1; t++) side[t] = (unsigned char)side_bits(plane_side(plane[t], 0, fwd, eye));
   }
-  for (int t = 0; t < n; t++) front[t] = side[t] == SIDE_FRONT;
+  for (int t = t0; t < t1; t++) front[t] = side[t] == SIDE_FRONT;
 }
 
-/* The same for an object without lines (it only occludes): its front
-** faces, from planes made as they are needed. */
+/* The same for an object without lines (it only occludes): the front
+** faces of its triangles [t0, t1), from planes made as they are needed. */
 static void occluder_fronts(unsigned char *front, const Mesh *m, const Vec3 *world,
-                            const Camera *cam) {
+                            const Camera *cam, int t0, int t1) {
   int ortho = cam->kind == CAMERA_ORTHO;
   Vec3 fwd = cam->forward, eye = cam->eye;
-  for (int t = 0; t < m->ntris; t++)
+  for (int t = t0; t < t1; t++)
     front[t] = plane_side(face_plane(world, m->tri[t]), ortho, fwd, eye) > 0;
 }
 
@@ -212,10 +217,20 @@ static int nclusters(const Mesh *m) {
   return (m->ntris + LINE_CLUSTER_TRIS - 1) / LINE_CLUSTER_TRIS;
 }
 
-/* Fill c from m's world positions. */
-static void edge_cache_fill(EdgeCache *c, const Mesh *m, const Vec3 *world) {
-  for (int t = 0; t < m->ntris; t++) c->plane[t] = face_plane(world, m->tri[t]);
-  for (int k = 0, t0 = 0; c->box && t0 < m->ntris; k++, t0 += LINE_CLUSTER_TRIS) {
+/* The planes of m's triangles [t0, t1) into c, from m's world positions. */
+static void edge_cache_planes(EdgeCache *c, const Mesh *m, const Vec3 *world, int t0, int t1) {
+  for (int t = t0; t < t1; t++) c->plane[t] = face_plane(world, m->tri[t]);
+}
+
+/* The kept kinds of m's edges [e0, e1) into c, from its planes. */
+static void edge_cache_kinds(EdgeCache *c, const Mesh *m, int e0, int e1) {
+  EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
+  for (int e = e0; e < e1; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
+}
+
+/* The boxes of c's runs of m's triangles, from m's world positions. */
+static void edge_cache_boxes(EdgeCache *c, const Mesh *m, const Vec3 *world) {
+  for (int k = 0, t0 = 0; t0 < m->ntris; k++, t0 += LINE_CLUSTER_TRIS) {
     const int *v = m->tri[t0], *end = m->tri[t0 + LINE_CLUSTER_TRIS < m->ntris ? t0 + LINE_CLUSTER_TRIS : m->ntris];
     double x0 = world[*v].x, y0 = world[*v].y, z0 = world[*v].z, x1 = x0, y1 = y0, z1 = z0;
     for (; v < end; v++) {   /* every corner of the run's triangles */
@@ -230,9 +245,6 @@ static void edge_cache_fill(EdgeCache *c, const Mesh *m, const Vec3 *world) {
     double *b = c->box[k];
     b[0] = x0, b[1] = y0, b[2] = z0, b[3] = x1, b[4] = y1, b[5] = z1;
   }
-  EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
-  for (int e = 0; c->kind && e < m->nedges; e++) c->kind[e] = (unsigned char)static_kind(&m->edges[e], &et);
-  c->ready = 1;
 }
 
 /* A box in reference pixels holding the projection of world box b (its
@@ -308,35 +320,90 @@ static void add_edge(LineEdges *out, int *cap, int obj, int e, unsigned kind) {
   out->n++;
 }
 
-/* Append m's important edges (object obj): their view-independent kinds
-** (ck, or static_kind from et where ck is NULL), and a silhouette where
-** the edge's faces' side bits are both. */
-static inline __attribute__((always_inline)) void classify_from(
-    LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m, const unsigned char *ck,
-    const EdgeTest *et, const unsigned char *side) {
+/* The kinds of m's edges [e0, e1) into kind: their view-independent
+** kinds (ck, or static_kind from et where ck is NULL), and a silhouette
+** where the edge's faces' side bits are both. */
+static inline __attribute__((always_inline)) void kinds_from(
+    int *kind, const Mesh *m, const unsigned char *ck, const EdgeTest *et, const unsigned char *side,
+    int e0, int e1) {
   const MeshEdge *me = m->edges;
-  for (int e = 0; e < m->nedges; e++) {
-    unsigned kind = ck ? ck[e] : static_kind(&me[e], et);
-    if (kind & EDGE_TRY_SILHOUETTE) {
-      if ((side[me[e].f[0]] | side[me[e].f[1]]) == (SIDE_FRONT | SIDE_BACK)) kind |= EDGE_SILHOUETTE;
-      kind &= ~EDGE_TRY_SILHOUETTE;
+  for (int e = e0; e < e1; e++) {
+    unsigned k = ck ? ck[e] : static_kind(&me[e], et);
+    if (k & EDGE_TRY_SILHOUETTE) {
+      if ((side[me[e].f[0]] | side[me[e].f[1]]) == (SIDE_FRONT | SIDE_BACK)) k |= EDGE_SILHOUETTE;
+      k &= ~EDGE_TRY_SILHOUETTE;
     }
-    if (!kind) continue;
-    add_edge(out, cap, obj, e, kind);
-    oe->id[e] = out->n;
+    kind[e] = (int)k;
   }
 }
 
 /* The same from c: its kept kinds, or for a cache made for one frame
 ** (no kinds kept) worked out in the same pass. */
-static void classify(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m,
-                     const EdgeCache *c, const unsigned char *side) {
+static void edge_kinds(int *kind, const Mesh *m, const EdgeCache *c, const unsigned char *side,
+                       int e0, int e1) {
   EdgeTest et = {m->tri_face, c->plane, c->want, c->crease_cos};
-  if (c->kind) classify_from(out, cap, obj, oe, m, c->kind, &et, side);
-  else classify_from(out, cap, obj, oe, m, NULL, &et, side);
+  if (c->kind) kinds_from(kind, m, c->kind, &et, side, e0, e1);
+  else kinds_from(kind, m, NULL, &et, side, e0, e1);
 }
 
-void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam) {
+/* Append object obj's important edges (a kind in oe->id, which each
+** becomes its id). */
+static void add_edges(LineEdges *out, int *cap, int obj, LineObjEdges *oe, const Mesh *m) {
+  for (int e = 0; e < m->nedges; e++) {
+    if (!oe->id[e]) continue;
+    add_edge(out, cap, obj, e, (unsigned)oe->id[e]);
+    oe->id[e] = out->n;
+  }
+}
+
+/* ---- an object's stages, on workers ---------------------------------------- */
+
+/* Vertices, triangles or edges a task of those stages takes. */
+#define LINE_EDGE_CHUNK 65536
+
+/* What the stages of one object read and write; each task writes only
+** the entries of its range. */
+typedef struct ObjJob {
+  LineObjEdges *oe;
+  const Mesh *m;
+  Mat4 to_world;
+  const Camera *cam;
+  Vec3 *world;
+  EdgeCache *c;
+  unsigned char *side;
+} ObjJob;
+
+/* Run task(job, a, b) over [0, n) in ranges of LINE_EDGE_CHUNK on up to
+** threads workers. */
+typedef void (*RangeTask)(ObjJob *j, int a, int b);
+typedef struct RangeJob { ObjJob *job; RangeTask task; int n; } RangeJob;
+
+static void range_task(void *ctx, int k, int worker) {
+  RangeJob *r = ctx;
+  int a = k * LINE_EDGE_CHUNK, b = a + LINE_EDGE_CHUNK < r->n ? a + LINE_EDGE_CHUNK : r->n;
+  r->task(r->job, a, b);
+}
+
+static void over_ranges(ObjJob *j, RangeTask task, int n, int threads) {
+  RangeJob r = {j, task, n};
+  line_parallel((n + LINE_EDGE_CHUNK - 1) / LINE_EDGE_CHUNK, threads, range_task, &r);
+}
+
+static void project_range(ObjJob *j, int a, int b) {
+  project_vertices(j->oe->vert, j->world, j->m, j->to_world, j->cam, a, b);
+}
+static void occluder_range(ObjJob *j, int a, int b) {
+  occluder_fronts(j->oe->front, j->m, j->world, j->cam, a, b);
+}
+static void plane_range(ObjJob *j, int a, int b) { edge_cache_planes(j->c, j->m, j->world, a, b); }
+static void kept_kind_range(ObjJob *j, int a, int b) { edge_cache_kinds(j->c, j->m, a, b); }
+static void side_range(ObjJob *j, int a, int b) {
+  face_sides(j->oe->front, j->side, j->c->plane, a, b, j->cam);
+}
+static void kind_range(ObjJob *j, int a, int b) { edge_kinds(j->oe->id, j->m, j->c, j->side, a, b); }
+
+void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam,
+                      int threads) {
   memset(out, 0, sizeof *out);
   out->nobj = nobj;
   out->obj = xcalloc((size_t)(nobj > 0 ? nobj : 1), sizeof *out->obj);
@@ -352,20 +419,31 @@ void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Ca
     int scratch = 0;
     EdgeCache *c = oe->lines ? edge_cache(m, objs[i].object_to_world, oe->lines, &scratch) : NULL;
     Vec3 *world = c && c->ready ? NULL : xmalloc(((size_t)m->nverts + 1) * sizeof *world);
-    project_vertices(oe, world, m, objs[i].object_to_world, cam);
-    oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
+    ObjJob j = {oe, m, objs[i].object_to_world, cam, world, c, NULL};
+    oe->vert = xmalloc(((size_t)m->nverts + 1) * sizeof *oe->vert);   /* every entry written */
+    over_ranges(&j, project_range, m->nverts, threads);
     oe->front = xcalloc((size_t)m->ntris + 1, 1);
     if (outside_view(oe, m->nverts)) {   /* nothing of it can show or occlude */
       oe->lines = NULL;
     } else if (!oe->lines) {
-      occluder_fronts(oe->front, m, world, cam);
+      over_ranges(&j, occluder_range, m->ntris, threads);
+    }
+    if (!oe->lines) {
+      oe->id = xcalloc((size_t)m->nedges + 1, sizeof *oe->id);
     } else {
-      if (!c->ready) edge_cache_fill(c, m, world);
-      unsigned char *side = xmalloc((size_t)m->ntris + 1);
-      face_sides(oe->front, side, c->plane, m->ntris, cam);
+      if (!c->ready) {
+        over_ranges(&j, plane_range, m->ntris, threads);
+        if (c->box) edge_cache_boxes(c, m, world);
+        if (c->kind) over_ranges(&j, kept_kind_range, m->nedges, threads);
+        c->ready = 1;
+      }
+      j.side = xmalloc((size_t)m->ntris + 1);
+      over_ranges(&j, side_range, m->ntris, threads);
+      oe->id = xmalloc(((size_t)m->nedges + 1) * sizeof *oe->id);   /* every entry written */
+      over_ranges(&j, kind_range, m->nedges, threads);
+      free(j.side);
       int first = out->n;
-      classify(out, &cap, i, oe, m, c, side);
-      free(side);
+      add_edges(out, &cap, i, oe, m);
       build_adjacency(oe, m, out->edge_of + first, out->n - first);
       if (c->box) {
         oe->cluster = xmalloc(((size_t)nclusters(m) + 1) * sizeof *oe->cluster);

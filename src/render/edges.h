@@ -85,10 +85,12 @@ typedef struct LineEdges {
 } LineEdges;
 
 /* Classify the edges of objs[0..nobj) seen by cam (the reference camera:
-** vertices are projected into its pixels) into *out. Objects without lines
-** get no ids but are projected (they still occlude). Every mesh must have
-** its topology built (mesh_build_edges). Free with line_edges_free. */
-void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam);
+** vertices are projected into its pixels) into *out, on up to threads
+** workers (the same result on any number). Objects without lines get no
+** ids but are projected (they still occlude). Every mesh must have its
+** topology built (mesh_build_edges). Free with line_edges_free. */
+void line_edges_build(LineEdges *out, const LineObject *objs, int nobj, const Camera *cam,
+                      int threads);
 void line_edges_free(LineEdges *e);
 
 /* Run fn(ctx, task, worker) for task 0..ntasks-1 on up to threads workers

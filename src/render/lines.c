@@ -53,7 +53,7 @@ static LineObject *objects_for(const LineObject *objs, int nobj, int endpoints) 
 static int tested_edges(LineEdges *edges, LineRef *ref, const LineObject *objs, int nobj,
                         const Camera *ref_cam, int threads, LineStats *st, char *err, size_t errlen) {
   double t0 = now_seconds();
-  line_edges_build(edges, objs, nobj, ref_cam);
+  line_edges_build(edges, objs, nobj, ref_cam, threads);
   double t1 = now_seconds();
   if (!line_ref_build(ref, edges, objs, ref_cam->width, ref_cam->height, threads)) {
     snprintf(err, errlen, "the important edges come to %zu reference pixels, over the limit of %lld "

@@ -126,7 +126,7 @@ static int strip_pieces(int cull_steps, SilPiece *out, int *whole, int *cut) {
   LineObject o[2] = {object_of(strip, &ls, 0), object_of(occ, NULL, 1)};
   Camera cam = camera_at(v3(0, 0, 10), v3(0, 0, 0), v3(0, 1, 0), 1, 2, 200, 100);
   LineEdges e;
-  line_edges_build(&e, o, 2, &cam);
+  line_edges_build(&e, o, 2, &cam, 1);
   LineRef ref;
   CHECK(line_ref_build(&ref, &e, o, 200, 100, 1));
   SilPieces ps;

@@ -157,7 +157,7 @@ TEST(cube_corner_edges) {
     for (int k = 0; k < 3; k++) {
       LineObject o = object_of(m, ls[k], 0);
       LineEdges ed;
-      line_edges_build(&ed, &o, 1, &cam);
+      line_edges_build(&ed, &o, 1, &cam, 1);
       counts[k] = ed.n;
       for (int e = 0; e < m->nedges; e++) {
         int a = m->edges[e].v[0], b = m->edges[e].v[1], same = 0, plus = 0, minus = 0;
@@ -197,19 +197,19 @@ TEST(crease_threshold_and_sharpness) {
   for (int k = 0; k < 24; k++) {
     o.object_to_world = m4_mul(m4_translate(v3(0.1 * k, -0.03 * k, 0.07 * k)),
                                m4_mul(m4_rotate_xyz(v3(7.3 * k, 11.1 * k, 13.7 * k)), m4_scale(v3(1 + 0.1 * k, 1, 1))));
-    line_edges_build(&ed, &o, 1, &cam);
+    line_edges_build(&ed, &o, 1, &cam, 1);
     CHECK_EQ_INT(ed.n, 12);
     line_edges_free(&ed);
   }
   o.object_to_world = m4_identity();
   l.crease_angle = 91;
-  line_edges_build(&ed, &o, 1, &cam);
+  line_edges_build(&ed, &o, 1, &cam, 1);
   CHECK_EQ_INT(ed.n, 0);
   line_edges_free(&ed);
   int diag = find_edge(m, 0, 3);   /* a diagonal of the -z face */
   CHECK(diag >= 0);
   m->edges[diag].sharpness = 2;
-  line_edges_build(&ed, &o, 1, &cam);
+  line_edges_build(&ed, &o, 1, &cam, 1);
   CHECK_EQ_INT(ed.n, 1);
   CHECK_EQ_INT(ed.edge_of[0], diag);
   line_edges_free(&ed);
@@ -217,7 +217,7 @@ TEST(crease_threshold_and_sharpness) {
   Mesh *q = make_quad(v3(-1, -1, 0), v3(1, -1, 0), v3(1, 1, 0.01), v3(-1, 1, 0));   /* twisted */
   l.crease_angle = 0;
   LineObject oq = object_of(q, &l, 0);
-  line_edges_build(&ed, &oq, 1, &cam);
+  line_edges_build(&ed, &oq, 1, &cam, 1);
   CHECK_EQ_INT(ed.n, 1);
   if (ed.n == 1) CHECK_EQ_INT(ed.edge_of[0], find_edge(q, 0, 2));
   line_edges_free(&ed);
@@ -232,12 +232,12 @@ TEST(boundary_and_face_edges) {
   SceneLines l = lines_of(EDGE_BOUNDARY);
   LineObject o = object_of(m, &l, 0);
   LineEdges ed;
-  line_edges_build(&ed, &o, 1, &cam);
+  line_edges_build(&ed, &o, 1, &cam, 1);
   CHECK_EQ_INT(ed.n, 4);
   CHECK_EQ_INT(ed.obj[0].id[find_edge(m, 0, 2)], 0);
   line_edges_free(&ed);
   l.kinds = EDGE_FACE;
-  line_edges_build(&ed, &o, 1, &cam);
+  line_edges_build(&ed, &o, 1, &cam, 1);
   CHECK_EQ_INT(ed.n, 4);
   line_edges_free(&ed);
   mesh_destroy(m);
@@ -276,7 +276,7 @@ static void edge_scene_free(EdgeScene *s) { mesh_destroy(s->tri); mesh_destroy(s
 static int trace_top(EdgeScene *s, LineSeg *seg, int *visible_ids_match) {
   LineEdges ed;
   LineRef ref;
-  line_edges_build(&ed, s->o, 2, &s->cam);
+  line_edges_build(&ed, s->o, 2, &s->cam, 1);
   line_ref_build(&ref, &ed, s->o, 200, 200, 1);
   int id = ed.obj[0].id[s->edge];
   int n = line_trace_span(&ref.span[id - 1], line_ref_vis(&ref, id), s->l.max_misses, seg);
@@ -350,7 +350,7 @@ TEST(visible_and_hidden) {
   edge_scene(&s, -2, 2);  /* everything behind the plane */
   LineEdges ed;
   LineRef ref;
-  line_edges_build(&ed, s.o, 2, &s.cam);
+  line_edges_build(&ed, s.o, 2, &s.cam, 1);
   line_ref_build(&ref, &ed, s.o, 200, 200, 1);
   CHECK_EQ_INT(ed.n, 3);
   CHECK_EQ_INT(ref.nvisible, 0);
@@ -416,7 +416,7 @@ TEST(outline_beside_nearer_part) {
   Camera cam = make_camera(v3(0, 0, 4), v3(0, 0, 0), 1, 2.5, 200, 200, v3(-1.2, -1, 0), v3(1.2, 1, 0.5));
   LineEdges ed;
   LineRef ref;
-  line_edges_build(&ed, o, 2, &cam);
+  line_edges_build(&ed, o, 2, &cam, 1);
   line_ref_build(&ref, &ed, o, 200, 200, 1);
   int id = ed.obj[0].id[find_edge(a, 2, 3)];
   CHECK(id > 0);
@@ -481,7 +481,7 @@ TEST(links_stay_in_object) {
   LineRef ref;
   LineTrace tr;
   LinePolys p;
-  line_edges_build(&ed, o, 2, &cam);
+  line_edges_build(&ed, o, 2, &cam, 1);
   line_ref_build(&ref, &ed, o, 200, 200, 1);
   line_trace_build(&tr, &ref, &ed, 1, 1);
   line_link_build(&p, &ref, &tr, &ed);
