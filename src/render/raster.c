@@ -367,6 +367,19 @@ static void row_span(const int64_t e[3], const int64_t step[3], int n, int *k0, 
   *k1 = (int)hi;
 }
 
+/* row_span for a short row (n <= SHORT_ROW), by testing sample after
+** sample: the same run, without the divisions. */
+enum { SHORT_ROW = 8 };
+
+static inline void short_row_span(const int64_t e[3], const int64_t step[3], int n, int *k0, int *k1) {
+  int64_t e0 = e[0], e1 = e[1], e2 = e[2];
+  int k = 0;
+  for (; k < n && (e0 | e1 | e2) < 0; k++) e0 += step[0], e1 += step[1], e2 += step[2];   /* outside */
+  *k0 = k;
+  for (; k < n && (e0 | e1 | e2) >= 0; k++) e0 += step[0], e1 += step[1], e2 += step[2];   /* inside */
+  *k1 = k;
+}
+
 void rast_triangle(const RastTri *t, const RastTarget *rt) {
   /* the triangle's pixel box, cut to the target's rectangle */
   int x0 = t->x0 > rt->x0 ? t->x0 : rt->x0, x1 = t->x1 < rt->x1 ? t->x1 : rt->x1;
@@ -396,7 +409,8 @@ void rast_triangle(const RastTri *t, const RastTarget *rt) {
     const int64_t e[3] = {row0, row1, row2};
     float fy = (float)y + 0.5f - t->oy;             /* sample y relative to the plane origin */
     int n = x1 - x0, x, xe;
-    row_span(e, step, n, &x, &xe);                  /* the samples inside all three edges */
+    if (n <= SHORT_ROW) short_row_span(e, step, n, &x, &xe);   /* the samples inside all three edges */
+    else row_span(e, step, n, &x, &xe);
     x += x0, xe += x0;
     int idx = (y - rt->oy) * rt->stride + (x - rt->ox);
     for (; x < xe; x++, idx++) {
