@@ -363,13 +363,136 @@ struct Hood {
   Far::TopologyLevel const *level;
   Far::Index v;
   int ne, nf;
+  const Far::Index *edges;   // ne: v's edges, in order
   int GetNumEdges() const { return ne; }
   int GetNumFaces() const { return nf; }
   float GetSharpness() const { return level->GetVertexSharpness(v); }
   float *GetSharpnessPerEdge(float s[]) const {
-    Far::ConstIndexArray e = level->GetVertexEdges(v);
-    for (int i = 0; i < ne; i++) s[i] = level->GetEdgeSharpness(e[i]);
+    for (int i = 0; i < ne; i++) s[i] = level->GetEdgeSharpness(edges[i]);
     return s;
+  }
+};
+
+// The last level's neighbourhoods made from its parent level, in Far's
+// order, for a refinement made without the last level's full topology
+// (Catmull-Clark from level 2: the parent's faces are quads, its edges
+// have one or two faces). Level L's vertices are the children of L-1's
+// vertices, faces and edges; its edges the children of L-1's faces (one
+// from the face's point to each edge's point) and edges (two, from the
+// edge's point to each end's point).
+struct Rings {
+  Vtr::internal::Refinement const *ref;
+  Vtr::internal::Level const *parent, *child;
+
+  explicit Rings(Far::TopologyRefiner const &r)
+      : ref(&r.getRefinement(r.GetMaxLevel() - 1)), parent(&ref->parent()), child(&ref->child()) {}
+
+  int max_valence() const { return std::max(parent->getMaxValence(), 4); }
+
+  // The corner of child face f opposite vertex c.
+  Far::Index opposite(Far::Index f, Far::Index c) const {
+    Far::ConstIndexArray fv = child->getFaceVertices(f);
+    int k = 0;
+    while (fv[k] != c) k++;
+    return fv[(k + 2) % 4];
+  }
+
+  // The ends of child edge k of parent face f, and of child edge j of parent edge e.
+  void face_edge_ends(int f, int k, int *ends) const {
+    ends[0] = ref->getFaceChildVertex(f);
+    ends[1] = ref->getEdgeChildVertex(parent->getFaceEdges(f)[k]);
+  }
+  void edge_edge_ends(int e, int j, int *ends) const {
+    ends[0] = ref->getEdgeChildVertex(e);
+    ends[1] = ref->getVertexChildVertex(parent->getEdgeVertices(e)[j]);
+  }
+
+  // The ends of every child edge, into ends (2 a child edge).
+  void all_edge_ends(int *ends) const {
+    for (int f = 0; f < parent->getNumFaces(); f++)
+      for (int k = 0; k < 4; k++) face_edge_ends(f, k, ends + 2 * ref->getFaceChildEdges(f)[k]);
+    for (int e = 0; e < parent->getNumEdges(); e++)
+      for (int j = 0; j < 2; j++) edge_edge_ends(e, j, ends + 2 * ref->getEdgeChildEdges(e)[j]);
+  }
+
+  // The child edge of parent edge e at its end v.
+  int edge_child_at(int e, int v, int *ends) const {
+    int j = parent->getEdgeVertices(e)[0] == v ? 0 : 1;
+    edge_edge_ends(e, j, ends);
+    return ref->getEdgeChildEdges(e)[j];
+  }
+
+  // The edges of child face l of parent face f, edge k from its corner k to
+  // k + 1: of the four edges at the parent's corner l (the child edges of
+  // the face's edges l and l - 1 there, the face's child edges l and l - 1),
+  // the one joining those corners.
+  void child_face_edges(int f, int l, int *out) const {
+    Far::ConstIndexArray fe = parent->getFaceEdges(f), fv = parent->getFaceVertices(f),
+                         ce = ref->getFaceChildEdges(f);
+    int cand[4], ends[4][2];
+    cand[0] = edge_child_at(fe[l], fv[l], ends[0]);
+    cand[1] = edge_child_at(fe[(l + 3) % 4], fv[l], ends[1]);
+    cand[2] = ce[l];
+    face_edge_ends(f, l, ends[2]);
+    cand[3] = ce[(l + 3) % 4];
+    face_edge_ends(f, (l + 3) % 4, ends[3]);
+    Far::ConstIndexArray cv = child->getFaceVertices(ref->getFaceChildFaces(f)[l]);
+    for (int k = 0; k < 4; k++) {
+      int a = cv[k], b = cv[(k + 1) % 4], i = 0;
+      while (i < 3 && !((ends[i][0] == a && ends[i][1] == b) ||
+                        (ends[i][0] == b && ends[i][1] == a)))
+        i++;
+      out[k] = cand[i];
+    }
+  }
+
+  // Vertex c's edges (edges, and the far end of each in ei) and faces (the
+  // corner opposite c in each in fi), as Far orders them; their counts.
+  void ring(int c, int &ne, int &nf, Far::Index *edges, Far::Index *ei, Far::Index *fi) const {
+    int p = ref->getChildVertexParentIndex(c);
+    if (c >= ref->getFirstChildVertexFromVertices() &&
+        c < ref->getFirstChildVertexFromVertices() + ref->getNumChildVerticesFromVertices()) {
+      Far::ConstIndexArray pe = parent->getVertexEdges(p), pf = parent->getVertexFaces(p);
+      Far::ConstLocalIndexArray el = parent->getVertexEdgeLocalIndices(p),
+                                fl = parent->getVertexFaceLocalIndices(p);
+      ne = pe.size();
+      nf = pf.size();
+      for (int i = 0; i < ne; i++) {
+        edges[i] = ref->getEdgeChildEdges(pe[i])[el[i]];
+        ei[i] = ref->getEdgeChildVertex(pe[i]);
+      }
+      for (int i = 0; i < nf; i++) fi[i] = opposite(ref->getFaceChildFaces(pf[i])[fl[i]], c);
+    } else if (c >= ref->getFirstChildVertexFromFaces() &&
+               c < ref->getFirstChildVertexFromFaces() + ref->getNumChildVerticesFromFaces()) {
+      Far::ConstIndexArray fe = parent->getFaceEdges(p), ce = ref->getFaceChildEdges(p),
+                           cf = ref->getFaceChildFaces(p);
+      ne = nf = 4;
+      for (int i = 0; i < 4; i++) {
+        edges[i] = ce[(i + 3) % 4];
+        ei[i] = ref->getEdgeChildVertex(fe[(i + 3) % 4]);
+        fi[i] = opposite(cf[i], c);
+      }
+    } else {
+      Far::ConstIndexArray ef = parent->getEdgeFaces(p), ev = parent->getEdgeVertices(p),
+                           ce = ref->getEdgeChildEdges(p);
+      Far::ConstLocalIndexArray efl = parent->getEdgeFaceLocalIndices(p);
+      int first = ev[0] == parent->getFaceVertices(ef[0])[efl[0]] ? 1 : 0;
+      ne = nf = 0;
+      for (int i = 0; i < ef.size(); i++) {   // one or two faces
+        int l = efl[i], end = i ? 1 - first : first;
+        Far::ConstIndexArray cf = ref->getFaceChildFaces(ef[i]);
+        edges[ne] = ce[end];
+        ei[ne++] = ref->getVertexChildVertex(ev[end]);
+        edges[ne] = ref->getFaceChildEdges(ef[i])[l];
+        ei[ne++] = ref->getFaceChildVertex(ef[i]);
+        fi[nf++] = opposite(cf[(l + 1) % 4], c);
+        fi[nf++] = opposite(cf[l], c);
+      }
+      if (ef.size() == 1) {   // a boundary edge: its other child edge ends the ring
+        edges[ne] = ce[1 - first];
+        ei[ne++] = ref->getVertexChildVertex(ev[1 - first]);
+      }
+    }
   }
 };
 
@@ -426,6 +549,7 @@ constexpr int SMOOTH_KEPT = 16;
 template <Sdc::SchemeType SCHEME>
 struct LimitJob {
   Far::TopologyLevel const *level;
+  Rings const *rings;   // the neighbourhoods, when the level has no full topology
   Sdc::Scheme<SCHEME> scheme;
   int maxv;
   std::vector<LimitMasks> smooth;
@@ -433,13 +557,14 @@ struct LimitJob {
   const Point *src;
   double *lim, *nrm;
 
-  LimitJob(Far::TopologyRefiner const &r, const Point *p, double *l, double *n)
-      : level(&r.GetLevel(r.GetMaxLevel())), scheme(r.GetSchemeOptions()),
-        maxv(r.getLevel(r.GetMaxLevel()).getMaxValence()), src(p), lim(l), nrm(n) {
+  LimitJob(Far::TopologyRefiner const &r, Rings const *g, const Point *p, double *l, double *n)
+      : level(&r.GetLevel(r.GetMaxLevel())), rings(g), scheme(r.GetSchemeOptions()),
+        maxv(g ? g->max_valence() : r.getLevel(r.GetMaxLevel()).getMaxValence()), src(p), lim(l),
+        nrm(n) {
     smooth.emplace_back(0);   // valence 0 is never kept (its masks read outside their weights)
     for (int k = 1; k <= std::min(maxv, SMOOTH_KEPT); k++) {
       smooth.emplace_back(k);
-      Hood h{level, 0, k, k};
+      Hood h{level, 0, k, k, nullptr};   // smooth masks read no sharpness
       LimitMasks &m = smooth.back();
       scheme.ComputeVertexLimitMask(h, m.pos, m.tan1, m.tan2, Sdc::Crease::RULE_SMOOTH);
     }
@@ -490,7 +615,7 @@ struct LimitJob {
 
   // The masks of vertex v (ne edges, nf faces): kept ones, or made in own
   // (or in wide, for a vertex with more edges or faces than maxv).
-  LimitMasks const *masks_of(int v, int ne, int nf, LimitMasks &own,
+  LimitMasks const *masks_of(int v, int ne, int nf, const Far::Index *edges, LimitMasks &own,
                              std::unique_ptr<LimitMasks> &wide) const {
     Sdc::Crease::Rule rule = level->GetVertexRule(v);
     if ((rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART) && ne == nf &&
@@ -501,7 +626,7 @@ struct LimitJob {
       wide.reset(new LimitMasks(maxv, ne + nf));
       into = wide.get();
     }
-    Hood h{level, v, ne, nf};
+    Hood h{level, v, ne, nf, edges};
     scheme.ComputeVertexLimitMask(h, into->pos, into->tan1, into->tan2, rule);
     return into;
   }
@@ -546,9 +671,19 @@ struct LimitJob {
   void run(int v0, int v1) const {
     LimitMasks own(maxv);
     std::unique_ptr<LimitMasks> wide;
-    std::vector<Far::Index> index(2 * (size_t)maxv + 1);
+    std::vector<Far::Index> edges(maxv + 1), ei(maxv + 1), fi(maxv + 1);
     for (int v = v0; v < v1; v++) {
-      int ne = level->GetVertexEdges(v).size(), nf = level->GetVertexFaces(v).size();
+      int ne, nf;
+      const Far::Index *ve = edges.data();
+      if (rings) {
+        rings->ring(v, ne, nf, edges.data(), ei.data(), fi.data());
+      } else {
+        ne = level->GetVertexEdges(v).size();
+        nf = level->GetVertexFaces(v).size();
+        if (ne > 0) ve = &level->GetVertexEdges(v)[0];
+        if (ei.size() < (size_t)ne) ei.resize(ne);
+        if (fi.size() < (size_t)nf) fi.resize(nf);
+      }
       Point p, t1, t2;
       p.Clear();
       t1.Clear();
@@ -556,11 +691,10 @@ struct LimitJob {
       if (ne == 0) {   // no neighbourhood: the point as it is, no normal
         p.AddWithWeight(src[v], 1.0);
       } else {
-        LimitMasks const *m = masks_of(v, ne, nf, own, wide);
-        if (index.size() < (size_t)(ne + nf)) index.resize(ne + nf);
-        neighbours(v, *m, index.data(), index.data() + ne);
-        if (regular4 && m == &smooth[4]) apply_regular4(v, index.data(), index.data() + 4, p, t1, t2);
-        else apply(v, *m, index.data(), index.data() + ne, p, t1, t2);
+        LimitMasks const *m = masks_of(v, ne, nf, ve, own, wide);
+        if (!rings) neighbours(v, *m, ei.data(), fi.data());
+        if (regular4 && m == &smooth[4]) apply_regular4(v, ei.data(), fi.data(), p, t1, t2);
+        else apply(v, *m, ei.data(), fi.data(), p, t1, t2);
       }
       store(v, p, t1, t2);
     }
@@ -573,15 +707,15 @@ struct LimitJob {
 };
 
 template <Sdc::SchemeType SCHEME>
-void limit_on_pool(Far::TopologyRefiner const &r, const Point *src, int threads, double *lim,
-                   double *nrm) {
-  LimitJob<SCHEME> job(r, src, lim, nrm);
+void limit_on_pool(Far::TopologyRefiner const &r, Rings const *rings, const Point *src, int threads,
+                   double *lim, double *nrm) {
+  LimitJob<SCHEME> job(r, rings, src, lim, nrm);
   on_pool(job.level->GetNumVertices(), threads, [&](int v0, int v1) { job.run(v0, v1); });
 }
 
 // Limit positions (lim) and unit limit normals (nrm) of the last level's
 // points, each 3 * n doubles, on up to `threads` threads.
-void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
+void limit_points(Far::TopologyRefiner const &r, Rings const *rings, std::vector<Point> const &last,
                   SumiOsdScheme scheme, int threads, double *lim, double *nrm) {
   size_t n = last.size();
   if (scheme == SUMI_OSD_BILINEAR) {  // the bilinear limit is the mesh itself
@@ -589,8 +723,9 @@ void limit_points(Far::TopologyRefiner const &r, std::vector<Point> const &last,
     if (n) std::memcpy(lim, last.data(), n * sizeof(Point));
     return;
   }
-  if (scheme == SUMI_OSD_LOOP) limit_on_pool<Sdc::SCHEME_LOOP>(r, last.data(), threads, lim, nrm);
-  else limit_on_pool<Sdc::SCHEME_CATMARK>(r, last.data(), threads, lim, nrm);
+  if (scheme == SUMI_OSD_LOOP)
+    limit_on_pool<Sdc::SCHEME_LOOP>(r, rings, last.data(), threads, lim, nrm);
+  else limit_on_pool<Sdc::SCHEME_CATMARK>(r, rings, last.data(), threads, lim, nrm);
 }
 
 // OpenSubdiv's own limit of the same points (Far::PrimvarRefiner::Limit),
@@ -599,7 +734,7 @@ void limit_points_far(Far::TopologyRefiner const &r, std::vector<Point> const &l
                       SumiOsdScheme scheme, double *lim, double *nrm) {
   size_t n = last.size();
   if (scheme == SUMI_OSD_BILINEAR) {
-    limit_points(r, last, scheme, 1, lim, nrm);
+    limit_points(r, nullptr, last, scheme, 1, lim, nrm);
     return;
   }
   std::vector<Point> t2(n);
@@ -751,8 +886,9 @@ T *alloc_array(size_t n) {
   return p;
 }
 
-// Faces of the last level: corners, edges and the base face each lies in.
-void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
+// Faces of the last level: corners, edges (with rings, made afterwards
+// from the level above) and the base face each lies in.
+void collect_faces(Far::TopologyRefiner const &r, Rings const *rings, SumiOsdRefined *out) {
   int level = r.GetMaxLevel();
   Far::TopologyLevel const &last = r.GetLevel(level);
   int nfaces = last.GetNumFaces();
@@ -775,10 +911,10 @@ void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
   size_t k = 0;
   start[0] = 0;
   for (int f = 0; f < nfaces; f++) {
-    Far::ConstIndexArray fv = last.GetFaceVertices(f), fe = last.GetFaceEdges(f);
+    Far::ConstIndexArray fv = last.GetFaceVertices(f);
     for (int i = 0; i < fv.size(); i++) {
       index[k + i] = fv[i];
-      edges[k + i] = fe[i];
+      if (!rings) edges[k + i] = last.GetFaceEdges(f)[i];
     }
     k += fv.size();
     start[f + 1] = (int)k;
@@ -786,18 +922,22 @@ void collect_faces(Far::TopologyRefiner const &r, SumiOsdRefined *out) {
 }
 
 // Edges of the last level with their crease tags, and vertex sharpness.
-void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, SumiOsdRefined *out) {
+void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, Rings const *rings,
+                   SumiOsdRefined *out) {
   Far::TopologyLevel const &last = r.GetLevel(r.GetMaxLevel());
   std::vector<float> tag = tagged_edges(t, r), sharp, sharp_now;
   std::vector<int> sharp_verts;
   int *everts = out->edge_verts = alloc_array<int>(2 * (size_t)last.GetNumEdges());
+  if (rings) rings->all_edge_ends(everts);
   for (int e = 0; e < last.GetNumEdges(); e++) {
-    Far::ConstIndexArray ev = last.GetEdgeVertices(e);
-    everts[2 * e] = ev[0];
-    everts[2 * e + 1] = ev[1];
+    if (!rings) {
+      Far::ConstIndexArray ev = last.GetEdgeVertices(e);
+      everts[2 * e] = ev[0];
+      everts[2 * e + 1] = ev[1];
+    }
     if (tag[e] <= 0) continue;
-    sharp_verts.push_back(ev[0]);
-    sharp_verts.push_back(ev[1]);
+    sharp_verts.push_back(everts[2 * e]);
+    sharp_verts.push_back(everts[2 * e + 1]);
     sharp.push_back(tag[e]);
     sharp_now.push_back(last.GetEdgeSharpness(e));
   }
@@ -811,6 +951,13 @@ void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, Sumi
   out->sharp_now = copy_out(sharp_now);
 }
 
+// No edge of the level has more than two faces.
+bool manifold_edges(Far::TopologyLevel const &l) {
+  for (int e = 0; e < l.GetNumEdges(); e++)
+    if (l.IsEdgeNonManifold(e) || l.GetEdgeFaces(e).size() > 2) return false;
+  return true;
+}
+
 // Refines r (t's base refiner) in place and fills *out (zeroed by the
 // caller, who frees it if this throws midway); out->ctrl only with
 // keep_ctrl. The points and their limit are OpenSubdiv's own
@@ -819,18 +966,34 @@ void collect_edges(SumiOsdTopology const &t, Far::TopologyRefiner const &r, Sumi
 void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, const double *pos,
                int keep_ctrl, int threads, int far, SumiOsdRefined *out) {
   Far::TopologyRefiner::UniformOptions uo(level);
-  uo.fullTopologyInLastLevel = true;  // the limit needs it, and the crease tags the last edges
+  // The last level's full topology is a third of the refinement and all
+  // serial; what the limit and the copies need of it is made from the
+  // level above (Rings) when that is all quads with manifold edges.
+  bool own = !far && t.scheme == SUMI_OSD_CATMARK && level >= 2 && manifold_edges(r.GetLevel(0));
+  uo.fullTopologyInLastLevel = !own;
   r.RefineUniform(uo);
+  std::unique_ptr<Rings> rings(own ? new Rings(r) : nullptr);
   std::vector<Point> ctrl = interpolate(r, pos, t.nverts, threads, far);
   out->level = level;
   out->nverts = (int)ctrl.size();
   out->limit = alloc_points(ctrl.size());
   out->normal = alloc_points(ctrl.size());
   if (far) limit_points_far(r, ctrl, t.scheme, out->limit, out->normal);
-  else limit_points(r, ctrl, t.scheme, threads, out->limit, out->normal);
+  else limit_points(r, rings.get(), ctrl, t.scheme, threads, out->limit, out->normal);
   if (keep_ctrl) out->ctrl = copy_points(ctrl);
   std::vector<Point>().swap(ctrl);   // gone before the topology is copied out (peak memory)
-  on_pool(2, threads, [&](int k, int) { k ? collect_edges(t, r, out) : collect_faces(r, out); }, 1);
+  on_pool(2, threads, [&](int k, int) {
+    if (k) collect_edges(t, r, rings.get(), out);
+    else collect_faces(r, rings.get(), out);
+  }, 1);
+  if (rings)   // the faces' edges, from the level above
+    on_pool(rings->parent->getNumFaces(), threads, [&](int f0, int f1) {
+      for (int f = f0; f < f1; f++)
+        for (int l = 0; l < 4; l++) {
+          int child = rings->ref->getFaceChildFaces(f)[l];
+          rings->child_face_edges(f, l, out->face_edges + out->face_start[child]);
+        }
+    });
 }
 
 int refine(const SumiOsdMesh *m, int level, const double *pos, SumiOsdRefined *out, char *err,

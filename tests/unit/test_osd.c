@@ -590,9 +590,31 @@ TEST(subdiv_open_plane_boundary) {
   }
 }
 
-/* The bridge's points of the last level and their limit (positions and
-** normals), on 1 and 3 threads, are Far::PrimvarRefiner's (Interpolate,
-** Limit) of the same refinement, bit for bit. */
+#define SAME(a, b, n) (!memcmp((a), (b), sizeof *(a) * (size_t)(n)))
+
+/* Every array of two refinements the same. */
+static int same_refinement(const SumiOsdRefined *a, const SumiOsdRefined *b) {
+  if (a->nverts != b->nverts || a->nfaces != b->nfaces || a->nedges != b->nedges ||
+      a->nsharp != b->nsharp)
+    return 0;
+  int nidx = b->face_start[b->nfaces];
+  return SAME(a->ctrl, b->ctrl, 3 * b->nverts) && SAME(a->limit, b->limit, 3 * b->nverts) &&
+         SAME(a->normal, b->normal, 3 * b->nverts) &&
+         SAME(a->vert_sharpness, b->vert_sharpness, b->nverts) &&
+         SAME(a->face_start, b->face_start, b->nfaces + 1) &&
+         SAME(a->face_index, b->face_index, nidx) && SAME(a->face_edges, b->face_edges, nidx) &&
+         SAME(a->face_base, b->face_base, b->nfaces) &&
+         SAME(a->edge_verts, b->edge_verts, 2 * b->nedges) &&
+         SAME(a->edge_tag, b->edge_tag, b->nedges) &&
+         SAME(a->sharp_verts, b->sharp_verts, 2 * b->nsharp) &&
+         SAME(a->sharp, b->sharp, b->nsharp) && SAME(a->sharp_now, b->sharp_now, b->nsharp);
+}
+
+/* The bridge's refinement on 1 and 3 threads (the last level's points,
+** their limit positions and normals, its faces and edges, made from the
+** level above where the bridge does not have OpenSubdiv make the last
+** level's full topology) is Far's own (Interpolate, Limit, the full
+** topology), bit for bit. */
 static int points_are_far_points(const SceneGeometry *g, SumiOsdBoundary boundary) {
   char err[256];
   SubdivTopology st;
@@ -607,9 +629,7 @@ static int points_are_far_points(const SceneGeometry *g, SumiOsdBoundary boundar
       ok = 0;
       continue;
     }
-    size_t bytes = 3 * sizeof(double) * (size_t)far.nverts;
-    ok = ok && ours[k].nverts == far.nverts && !memcmp(ours[k].ctrl, far.ctrl, bytes) &&
-         !memcmp(ours[k].limit, far.limit, bytes) && !memcmp(ours[k].normal, far.normal, bytes);
+    ok = ok && same_refinement(&ours[k], &far);
     sumi_osd_refined_free(&ours[k]);
   }
   if (!ok) fprintf(stderr, "points differ from Far's: %s\n", err);
@@ -622,7 +642,7 @@ TEST(subdiv_points_are_far_points) {
   /* The cube, moved off its round numbers, with a semi-sharp and a sharp
   ** crease and a corner; the open grid under each boundary rule; an
   ** octahedron and an open fan under loop; a cone of 20 triangles (a
-  ** valence the masks are not kept for); the non-manifold fin. */
+  ** valence the masks are not kept for); a bow tie; the non-manifold fin. */
   Vec3 cv[8];
   for (int i = 0; i < 8; i++)
     cv[i] = v3_add(CUBE_V[i], v3(0.1 * sin(3.0 * i), 0.07 * cos(5.0 * i), 0.03 * i));
@@ -648,7 +668,8 @@ TEST(subdiv_points_are_far_points) {
   SceneGeometry grid;
   memset(&grid, 0, sizeof grid);
   grid.kind = GEOM_MESH;
-  grid.nverts = 16; grid.verts = v; grid.nfaces = 9; grid.face_start = start; grid.face_index = index;
+  grid.nverts = 16; grid.verts = v; grid.nfaces = 9;
+  grid.face_start = start; grid.face_index = index;
   grid.subdiv_level = 3;
   CHECK(points_are_far_points(&grid, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   CHECK(points_are_far_points(&grid, SUMI_OSD_BOUNDARY_EDGE_ONLY));
@@ -688,11 +709,24 @@ TEST(subdiv_points_are_far_points) {
   SceneGeometry cone;
   memset(&cone, 0, sizeof cone);
   cone.kind = GEOM_MESH;
-  cone.nverts = N + 1; cone.verts = kv; cone.nfaces = N; cone.face_start = kstart; cone.face_index = kindex;
+  cone.nverts = N + 1; cone.verts = kv; cone.nfaces = N;
+  cone.face_start = kstart; cone.face_index = kindex;
   cone.subdiv_level = 2;
   CHECK(points_are_far_points(&cone, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
   cone.subdiv_scheme = "loop";
   CHECK(points_are_far_points(&cone, SUMI_OSD_BOUNDARY_EDGE_ONLY));
+  /* a bow tie: two quads meeting at a vertex (non-manifold there, its edges manifold) */
+  static Vec3 bv[7] = {{0, 0, 0},   {1, 0, 0.2},  {1, 1, 0}, {0, 1, 0.1},
+                       {-1, 0, 0.3}, {-1, -1, 0}, {0, -1, 0}};
+  static int bstart[3] = {0, 4, 8};
+  static int bindex[8] = {0, 1, 2, 3, 0, 4, 5, 6};
+  SceneGeometry bow;
+  memset(&bow, 0, sizeof bow);
+  bow.kind = GEOM_MESH;
+  bow.nverts = 7; bow.verts = bv; bow.nfaces = 2; bow.face_start = bstart; bow.face_index = bindex;
+  bow.subdiv_level = 3;
+  CHECK(points_are_far_points(&bow, SUMI_OSD_BOUNDARY_EDGE_AND_CORNER));
+  CHECK(points_are_far_points(&bow, SUMI_OSD_BOUNDARY_EDGE_ONLY));
   static Vec3 fv[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                        {1, -1, 0}, {0, -1, 0}, {1, 0, 1}, {0, 0, 1}};
   static int fstart[4] = {0, 4, 8, 12};
