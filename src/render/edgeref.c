@@ -290,19 +290,25 @@ static void tri_test(const ScreenTri *t, TriTest *q) {
 #define LINE_REF_WIDE 4
 
 /* The x extent [*lo, *hi] of triangle t over the rows y in [ya, yb]: its
-** corners there and where its sides cross y = ya and y = yb. */
+** corners there and where its sides cross y = ya and y = yb. l and h are
+** never NaN, so `x < l ? x : l` is fminf(l, x) without the call (a NaN x
+** leaves l) but for the sign of a zero, which the callers' sums and
+** comparisons do not see. */
 static void slab_extent(const ScreenTri *t, float ya, float yb, float *lo, float *hi) {
   float l = INFINITY, h = -INFINITY;
   for (int e = 0; e < 3; e++) {
     int e1 = e == 2 ? 0 : e + 1;
     float x0 = t->x[e], y0 = t->y[e], x1 = t->x[e1], y1 = t->y[e1];
-    if (y0 >= ya && y0 <= yb) { l = fminf(l, x0); h = fmaxf(h, x0); }
+    if (y0 >= ya && y0 <= yb) {
+      l = x0 < l ? x0 : l;
+      h = x0 > h ? x0 : h;
+    }
     for (int k = 0; k < 2; k++) {
       float y = k ? yb : ya;
       if ((y0 - y) * (y1 - y) < 0) {   /* the side crosses the row's edge */
         float x = x0 + (x1 - x0) * ((y - y0) / (y1 - y0));
-        l = fminf(l, x);
-        h = fmaxf(h, x);
+        l = x < l ? x : l;
+        h = x > h ? x : h;
       }
     }
   }
