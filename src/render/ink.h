@@ -153,7 +153,7 @@ typedef struct InkCanvas {
   int absorb_w, absorb_h;
   uint32_t seed;
   struct InkCells *cells;   /* during ink_diffuse: each pixel's state beyond the planes */
-  const struct NoiseFbm *fbm;   /* during ink_diffuse: the resistance noise's lattice */
+  const struct InkResist *resist;   /* during ink_diffuse: the resistance noise's lattice */
   size_t *absorb_row;       /* during ink_diffuse, with absorb: per row its texel row's first */
   int *absorb_col;          /* and per column its texel column (no divisions per lookup) */
   const InkStyle *one;      /* during ink_diffuse: the only style, when there is one and it

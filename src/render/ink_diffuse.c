@@ -127,10 +127,35 @@ static inline InkCell *cell_of(const InkCanvas *c, size_t p) {
 #define RESIST_CELL 6
 #define RESIST_PERIOD 64
 
-static float resist_noise(const InkCanvas *c, int x, int y) {
+/* The noise's lattice, and where each column and row of the canvas lie
+** on it. */
+typedef struct InkResist {
+  NoiseFbm fbm;
+  NoiseAxis *col, *row;
+} InkResist;
+
+/* The lattice of the canvas's frame pixels ((x + 0.5) / span across the unit
+** square), for c->resist (freed by resist_free). */
+static void resist_init(InkCanvas *c, InkResist *r) {
   const float span = RESIST_CELL * RESIST_PERIOD;
-  x += c->ox, y += c->oy;   /* frame pixels */
-  float v = 0.5f + 0.5f * noise_fbm_eval(c->fbm, ((float)x + 0.5f) / span, ((float)y + 0.5f) / span);
+  noise_fbm_init(&r->fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
+  r->col = xmalloc((size_t)c->width * sizeof *r->col + 1);
+  r->row = xmalloc((size_t)c->height * sizeof *r->row + 1);
+  for (int x = 0; x < c->width; x++) noise_axis(&r->fbm, ((float)(x + c->ox) + 0.5f) / span, &r->col[x]);
+  for (int y = 0; y < c->height; y++) noise_axis(&r->fbm, ((float)(y + c->oy) + 0.5f) / span, &r->row[y]);
+  c->resist = r;
+}
+
+static void resist_free(InkCanvas *c, InkResist *r) {
+  noise_fbm_free(&r->fbm);
+  free(r->col);
+  free(r->row);
+  c->resist = NULL;
+}
+
+static float resist_noise(const InkCanvas *c, int x, int y) {
+  const InkResist *r = c->resist;
+  float v = 0.5f + 0.5f * noise_fbm_axes(&r->fbm, &r->col[x], &r->row[y]);
   return v < 0 ? 0 : v > 1 ? 1 : v;
 }
 
@@ -464,9 +489,8 @@ static int pass_bound(const InkCanvas *c, int max_passes) {
 
 void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   int passes = pass_bound(c, max_passes);
-  NoiseFbm fbm;
-  noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
-  c->fbm = &fbm;
+  InkResist resist;
+  resist_init(c, &resist);
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
   InkCells cells;
@@ -490,8 +514,7 @@ void ink_diffuse_every_pixel(InkCanvas *c, int max_passes, InkDiffuseStats *st) 
   free(u.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
   cells_free(c);
-  noise_fbm_free(&fbm);
-  c->fbm = NULL;
+  resist_free(c, &resist);
   c->one = NULL;
   absorb_free(c);
   if (st) *st = s;
@@ -501,9 +524,8 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   int passes = pass_bound(c, max_passes);
   InkDiffuseStats s = {0, 0};
   if (passes <= 0) { if (st) *st = s; return; }
-  NoiseFbm fbm;
-  noise_fbm_init(&fbm, RESIST_PERIOD, 1, 0.5f, c->seed);
-  c->fbm = &fbm;
+  InkResist resist;
+  resist_init(c, &resist);
   absorb_tables(c);
   c->one = c->nstyles == 1 && diffuses(c, 0) ? &c->styles[0] : NULL;
   InkCells cells;
@@ -527,8 +549,7 @@ void ink_diffuse(InkCanvas *c, int max_passes, InkDiffuseStats *st) {
   free(last.v);
   for (int i = 0; i <= INK_MAX_DELAY; i++) free(rd.at[i].v);
   cells_free(c);
-  noise_fbm_free(&fbm);
-  c->fbm = NULL;
+  resist_free(c, &resist);
   c->one = NULL;
   absorb_free(c);
   if (st) *st = s;

@@ -48,28 +48,48 @@ static inline float floor_of(float v) {
   return t > v ? t - 1 : t == v ? v : t;
 }
 
-/* One octave: gradient noise over a periodic p x p lattice at (X, Y) in cells. */
-static float gradient_noise(const float *grad, int p, float X, float Y) {
-  float fx = floor_of(X), fy = floor_of(Y);
-  float x = X - fx, y = Y - fy;
-  int i0, j0, m = p - 1;
+/* Coordinate V (in cells) on a periodic lattice of p cells a side. */
+static void axis_of(int p, float V, NoiseAxis *a) {
+  float f = floor_of(V);
+  int i0, m = p - 1;
   if ((p & m) == 0) {   /* a power of two (the usual lattices): the remainder is a mask */
-    i0 = (int)fx & m;
-    j0 = (int)fy & m;
+    i0 = (int)f & m;
   } else {
-    i0 = (int)fx % p;
-    j0 = (int)fy % p;
+    i0 = (int)f % p;
     if (i0 < 0) i0 += p;
-    if (j0 < 0) j0 += p;
   }
-  int i1 = i0 + 1 == p ? 0 : i0 + 1, j1 = j0 + 1 == p ? 0 : j0 + 1;
-  const float *g00 = grad + 2 * (j0 * p + i0), *g10 = grad + 2 * (j0 * p + i1);
-  const float *g01 = grad + 2 * (j1 * p + i0), *g11 = grad + 2 * (j1 * p + i1);
+  a->i0 = i0;
+  a->i1 = i0 + 1 == p ? 0 : i0 + 1;
+  a->t = V - f;
+  a->fade = fade(a->t);
+}
+
+/* One octave: gradient noise over a periodic p x p lattice at the point of axes ax and ay. */
+static float noise_at(const float *grad, int p, const NoiseAxis *ax, const NoiseAxis *ay) {
+  float x = ax->t, y = ay->t;
+  const float *g00 = grad + 2 * (ay->i0 * p + ax->i0), *g10 = grad + 2 * (ay->i0 * p + ax->i1);
+  const float *g01 = grad + 2 * (ay->i1 * p + ax->i0), *g11 = grad + 2 * (ay->i1 * p + ax->i1);
   float d00 = g00[0] * x + g00[1] * y, d10 = g10[0] * (x - 1) + g10[1] * y;
   float d01 = g01[0] * x + g01[1] * (y - 1), d11 = g11[0] * (x - 1) + g11[1] * (y - 1);
-  float u = fade(x), v = fade(y);
+  float u = ax->fade, v = ay->fade;
   float a = d00 + u * (d10 - d00), b = d01 + u * (d11 - d01);
   return (a + v * (b - a)) * 1.41421356f;   /* 2D gradient noise spans +-1/sqrt(2) */
+}
+
+/* The same at (X, Y) in cells. */
+static float gradient_noise(const float *grad, int p, float X, float Y) {
+  NoiseAxis ax, ay;
+  axis_of(p, X, &ax);
+  axis_of(p, Y, &ay);
+  return noise_at(grad, p, &ax, &ay);
+}
+
+void noise_axis(const NoiseFbm *n, float v, NoiseAxis *a) {
+  axis_of(n->cells, v * (float)n->cells, a);
+}
+
+float noise_fbm_axes(const NoiseFbm *n, const NoiseAxis *ax, const NoiseAxis *ay) {
+  return 0.0f + noise_at(n->grad[0], n->cells, ax, ay);   /* noise_fbm_eval's sum of one */
 }
 
 float noise_fbm_eval(const NoiseFbm *n, float x, float y) {

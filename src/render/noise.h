@@ -38,6 +38,17 @@ void noise_fbm_free(NoiseFbm *n);
 ** same value), about -1 .. 1, mean about 0. */
 float noise_fbm_eval(const NoiseFbm *n, float x, float y);
 
+/* A coordinate's place on a lattice: its cell's sides and how far across
+** the cell it lies. A grid of points (a frame's pixels) takes each
+** column's and each row's once, then the noise at each point from them. */
+typedef struct NoiseAxis { int i0, i1; float t, fade; } NoiseAxis;
+
+/* Coordinate v of the unit square on n's first lattice. */
+void noise_axis(const NoiseFbm *n, float v, NoiseAxis *a);
+/* n's first octave at the point of axes ax and ay: for n of one octave,
+** noise_fbm_eval there, to the bit. */
+float noise_fbm_axes(const NoiseFbm *n, const NoiseAxis *ax, const NoiseAxis *ay);
+
 typedef struct NoiseTile {
   int channels;                /* 1 (grey) or 3 (RGB); a 4th, alpha, when has_alpha */
   int has_alpha;

@@ -49,6 +49,28 @@ TEST(fbm_periodic_and_seeded) {
   noise_fbm_free(&c);
 }
 
+/* One octave at a grid's points from their columns' and rows' axes is
+** noise_fbm_eval there to the bit, on a lattice of a power of two cells
+** and on one of another size, negative coordinates among the points. */
+TEST(fbm_axes_equal_eval) {
+  static const int cells[] = {64, 6};
+  for (int k = 0; k < 2; k++) {
+    NoiseFbm n;
+    noise_fbm_init(&n, cells[k], 1, 0.5f, 11);
+    int same = 1;
+    for (int i = 0; i < 300; i++) {
+      float x = ((float)(i - 40) + 0.5f) / 384, y = ((float)(i * 7 % 300 - 90) + 0.5f) / 384;
+      NoiseAxis ax, ay;
+      noise_axis(&n, x, &ax);
+      noise_axis(&n, y, &ay);
+      float a = noise_fbm_axes(&n, &ax, &ay), e = noise_fbm_eval(&n, x, y);
+      same &= !memcmp(&a, &e, sizeof a);
+    }
+    CHECK(same);
+    noise_fbm_free(&n);
+  }
+}
+
 /* A baked tile fills [0, 1] around 0.5, its reads wrap, and its coarser
 ** levels keep the mean. */
 TEST(tile_range_wrap_levels) {
@@ -323,6 +345,7 @@ int main(void) {
   snprintf(dir, sizeof dir, "/tmp/sumi-ukiyoe-XXXXXX");
   if (!mkdtemp(dir)) { perror("mkdtemp"); return 1; }
   RUN(fbm_periodic_and_seeded);
+  RUN(fbm_axes_equal_eval);
   RUN(tile_range_wrap_levels);
   RUN(flat_unlit_one_colour);
   RUN(noise_follows_centre);
