@@ -255,18 +255,36 @@ typedef struct Offer {
   float ink, water;
 } Offer;
 
+/* The rules split by what they read. Rule 2 and the paper's: does q's
+** level run onto p's (darker to lighter; onto paper only from the light
+** level)? */
+static inline int level_runs(const InkCanvas *c, size_t q, size_t p) {
+  int lq = c->level[q], lp = c->level[p];
+  return lq > lp && (lp != 0 || lq == 1);
+}
+
+/* Giver q's style when q can give in pass `pass` at all (on the canvas,
+** its water come through, its style diffusing, and rule 1: enough
+** water); else NULL. */
+static inline const InkStyle *giver_style(const InkCanvas *c, size_t q, int pass) {
+  const InkCell *g = cell_at(c, q);
+  if (c->level[q] == INK_OFF || g->ready >= pass) return NULL;
+  const InkStyle *k = style_of(c, q);
+  if (k->stage < INK_STAGE_DIFFUSED) return NULL;
+  float water = g->ready ? g->water : water_at_start(c, q);
+  return water > k->water_threshold ? k : NULL;
+}
+
+/* Rule 3, for giver q of style k: a large enough difference of ink. */
+static inline int ink_runs(const InkCanvas *c, const InkStyle *k, size_t q, size_t p) {
+  return c->ink[q] - c->ink[p] > k->ink_threshold;
+}
+
 /* May giver q give to receiver p in pass `pass` under the three rules? */
 static inline int may_give(const InkCanvas *c, size_t q, size_t p, int pass) {
-  int lq = c->level[q], lp = c->level[p];
-  if (lq == INK_OFF || lq <= lp) return 0;                   /* rule 2: darker to lighter */
-  if (lp == 0 && lq != 1) return 0;                          /* onto paper only from the light level */
-  const InkCell *g = cell_at(c, q);
-  if (g->ready >= pass) return 0;                            /* its water has not come through yet */
-  const InkStyle *k = style_of(c, q);
-  if (k->stage < INK_STAGE_DIFFUSED) return 0;
-  float water = g->ready ? g->water : water_at_start(c, q);
-  if (!(water > k->water_threshold)) return 0;               /* rule 1: enough water */
-  return c->ink[q] - c->ink[p] > k->ink_threshold;           /* rule 3: a large enough difference */
+  if (!level_runs(c, q, p)) return 0;   /* the cheap test first: most neighbours fail it */
+  const InkStyle *k = giver_style(c, q, pass);
+  return k && ink_runs(c, k, q, p);
 }
 
 /* Does giver a come before giver b: darker (level, then ink, then water),
@@ -431,9 +449,10 @@ static void offers_of(const InkCanvas *c, Updates *u) {
   }
 }
 
-/* Giver q offers to its neighbour p when the rules let it. */
-static inline void offer_to(const InkCanvas *c, size_t q, size_t p, int pass, Updates *u) {
-  if (takes_part(c, p) && may_give(c, q, p, pass)) take(c, q, p, u);
+/* Giver q, of style k and able to give, offers to its neighbour p when
+** the rules let it: may_give's tests, q's own made once for its four. */
+static inline void offer_to(const InkCanvas *c, const InkStyle *k, size_t q, size_t p, Updates *u) {
+  if (level_runs(c, q, p) && takes_part(c, p) && ink_runs(c, k, q, p)) take(c, q, p, u);
 }
 
 /* A later pass. A pixel's best offer can change only when it or a
@@ -456,12 +475,14 @@ static void next_pass(const InkCanvas *c, const Updates *last, const Updates *no
     uint32_t q = now->v[i].pixel;
     fetch_ahead(c, now->v, i, now->n);
     if (cell_at(c, q)->ready != pass - 1) continue;   /* it took a darker offer since: listed again */
+    const InkStyle *k = giver_style(c, q, pass);
+    if (!k) continue;
     int x0, y0;
     pixel_xy(q, (uint32_t)w, inv_w, &x0, &y0);
-    if (x0 > 0) offer_to(c, q, q - 1, pass, u);   /* left, right, up, down */
-    if (x0 + 1 < w) offer_to(c, q, q + 1, pass, u);
-    if (y0 > 0) offer_to(c, q, q - (size_t)w, pass, u);
-    if (y0 + 1 < h) offer_to(c, q, q + (size_t)w, pass, u);
+    if (x0 > 0) offer_to(c, k, q, q - 1, u);   /* left, right, up, down */
+    if (x0 + 1 < w) offer_to(c, k, q, q + 1, u);
+    if (y0 > 0) offer_to(c, k, q, q - (size_t)w, u);
+    if (y0 + 1 < h) offer_to(c, k, q, q + (size_t)w, u);
   }
   offers_of(c, u);
 }
