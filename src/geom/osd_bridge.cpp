@@ -966,7 +966,7 @@ bool manifold_edges(Far::TopologyLevel const &l) {
 void refine_in(Far::TopologyRefiner &r, SumiOsdTopology const &t, int level, const double *pos,
                int keep_ctrl, int threads, int far, SumiOsdRefined *out) {
   Far::TopologyRefiner::UniformOptions uo(level);
-  // The last level's full topology is a third of the refinement and all
+  // The last level's full topology is over half of the refinement, all
   // serial; what the limit and the copies need of it is made from the
   // level above (Rings) when that is all quads with manifold edges.
   bool own = !far && t.scheme == SUMI_OSD_CATMARK && level >= 2 && manifold_edges(r.GetLevel(0));
