@@ -309,7 +309,8 @@ static inline void rebuild_run(const float *const c[6], const RayRow *rr, float 
     rebuild_group(c, rr, sign, k, bary + 2 * k, px, py, pz, nx, ny, nz, vx, vy, vz);
   if (k == k1) return;
   float tail[2 * SHADE_LANES] = {0};
-  for (int j = 0; j < 2 * (k1 - k); j++) tail[j] = bary[2 * k + j];
+  for (int j = 0; j < SHADE_LANES; j++)   /* a fixed count: no call to memcpy for a sample or two */
+    if (k + j < k1) tail[2 * j] = bary[2 * (k + j)], tail[2 * j + 1] = bary[2 * (k + j) + 1];
   rebuild_group(c, rr, sign, k, tail, px, py, pz, nx, ny, nz, vx, vy, vz);
 }
 
