@@ -992,8 +992,7 @@ static void shade_row(const TileJob *job, const RastTarget *rt, int i, int sx, i
   const int32_t *obj = rt->object + i, *face = rt->face + i;
   const RenderObject *objects = job->f->objects;
   row->face = face;
-  row->sx0 = sx;
-  row->sy = sy;
+  shade_row_start(row, &job->view, sx, sy);
   row->bary = (const float(*)[2])rt->bary + i;
   for (int k = 0, e; k < n; k = e) {                    /* pass 1: the surface, left to right */
     if (obj[k] < 0) { e = k + 1; continue; }            /* background: its lanes go unused */

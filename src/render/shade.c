@@ -270,6 +270,13 @@ static RayRow ray_row(const ShadeView *view, int sx0, int sy) {
   return rr;
 }
 
+void shade_row_start(ShadeRow *r, const ShadeView *view, int sx0, int sy) {
+  r->sx0 = sx0;
+  r->sy = sy;
+  RayRow rr = ray_row(view, sx0, sy);
+  memcpy(r->ray_base, rr.base, sizeof r->ray_base);
+}
+
 static inline __attribute__((always_inline)) void rebuild_group(
     const float *const c[6], const RayRow *rr, float sign, int k, const float *restrict b12,
     float *restrict px, float *restrict py, float *restrict pz, float *restrict nx,
@@ -324,7 +331,9 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
   }
   float sign = o->backfacing[face] ? -1.0f : 1.0f;   /* a back face's normal turns around */
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
-  RayRow rr = ray_row(view, r->sx0, r->sy);
+  RayRow rr = {.kx = view->kx, .cx = view->cx, .sx0 = r->sx0};   /* ray_row's, its base made once a row */
+  memcpy(rr.base, r->ray_base, sizeof rr.base);
+  memcpy(rr.right, view->right, sizeof rr.right);
   rebuild_run(c, &rr, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
               r->vy, r->vz);
   if (view->ortho)   /* the one unit view vector */

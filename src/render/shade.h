@@ -77,6 +77,7 @@ typedef struct ShadeRow {
   float *br, *bg, *bb; /* per sample base colour where the object's style has an image map
                           (shade_image_run), else not read */
   int sx0, sy;         /* sample 0's column and the row in the frame's sample grid */
+  float ray_base[3];   /* the row's view rays' part along fwd and up (shade_row_start) */
   /* antialiased (else NULL): where a model's colour steps (toon's bands,
   ** highlight and edge; antialias.h filters them): per sample, the level
   ** of each of up to SHADE_STEP_TERMS terms, one signed byte each (byte t
@@ -121,7 +122,11 @@ typedef struct ShadeView {
 ** (want_uv cleared). */
 void shade_view_init(ShadeView *view, const Camera *c, int samples);
 
-/* Rebuild samples k0..k1-1 of r, which all show triangle face of object o,
+/* Start r on the row of samples from (sx0, sy) of the frame's sample
+** grid under view: its place and what its view rays share. */
+void shade_row_start(ShadeRow *r, const ShadeView *view, int sx0, int sy);
+
+/* Rebuild samples k0..k1-1 of r (started on its row under view), which all show triangle face of object o,
 ** into r's planes: the point, the unit normal (turned toward the viewer on
 ** a back face; a zero one stays zero) and the unit view vector, SHADE_LANES
 ** samples at a time. The last lanes may write up to SHADE_LANES - 1
