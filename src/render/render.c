@@ -273,15 +273,20 @@ static void object_to_world(RenderObject *o) {
 ** (counter-clockwise winding) points away from the viewer. */
 static void object_facing(RenderObject *o, const Camera *c) {
   const Mesh *m = o->mesh;
-  o->backfacing = xmalloc((size_t)m->ntris + 1);
-  for (int t = 0; t < m->ntris; t++) {
-    const float *a = o->wpos[m->tri[t][0]], *b = o->wpos[m->tri[t][1]], *d = o->wpos[m->tri[t][2]];
+  /* in locals: a store to the bytes of back could alias any of them */
+  unsigned char *back = xmalloc((size_t)m->ntris + 1);
+  const int(*tri)[3] = (const int(*)[3])m->tri;
+  const float(*wpos)[3] = (const float(*)[3])o->wpos;
+  int ortho = c->kind == CAMERA_ORTHO, n = m->ntris;
+  Vec3 eye = c->eye, away = v3_mul(c->forward, -1);
+  for (int t = 0; t < n; t++) {
+    const float *a = wpos[tri[t][0]], *b = wpos[tri[t][1]], *d = wpos[tri[t][2]];
     Vec3 e1 = v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
     Vec3 e2 = v3(d[0] - a[0], d[1] - a[1], d[2] - a[2]);
-    Vec3 view = c->kind == CAMERA_ORTHO ? v3_mul(c->forward, -1)
-                                        : v3_sub(c->eye, v3(a[0], a[1], a[2]));
-    o->backfacing[t] = v3_dot(v3_cross(e1, e2), view) < 0;
+    Vec3 view = ortho ? away : v3_sub(eye, v3(a[0], a[1], a[2]));
+    back[t] = v3_dot(v3_cross(e1, e2), view) < 0;
   }
+  o->backfacing = back;
 }
 
 /* What can_cull_back needs of the mesh alone, kept with a mesh kept
