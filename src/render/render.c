@@ -718,6 +718,10 @@ static inline void push_box(const SetupJob *job, SetupList *list, int x0, int y0
                                      (uint8_t)back, (uint8_t)lazy};
 }
 
+/* fminf inline (the library's is a call): the lesser, or the one that is
+** not NaN. */
+static inline float min_num(float a, float b) { return a < b || b != b ? a : b; }
+
 static void emit_chunk(void *ctx, int k) {
   SetupJob *job = ctx;
   const SetupChunk *c = &job->chunks[k];
@@ -764,7 +768,7 @@ static void emit_chunk(void *ctx, int k) {
       ** at a corner; the margin covers the rounding of rast_triangle's sums */
       float fx0 = (float)r->x0 + 0.5f - r->ox, fx1 = (float)r->x1 - 0.5f - r->ox;
       float fy0 = (float)r->y0 + 0.5f - r->oy, fy1 = (float)r->y1 - 0.5f - r->oy;
-      float zx = fminf(r->z[1] * fx0, r->z[1] * fx1), zy = fminf(r->z[2] * fy0, r->z[2] * fy1);
+      float zx = min_num(r->z[1] * fx0, r->z[1] * fx1), zy = min_num(r->z[2] * fy0, r->z[2] * fy1);
       push_box(job, list, r->x0, r->y0, r->x1, r->y1, r->z[0] + zx + zy - 1e-5f, i, back, 0);
     }
   }
