@@ -389,14 +389,6 @@ struct Rings {
 
   int max_valence() const { return std::max(parent->getMaxValence(), 4); }
 
-  // The corner of child face f opposite vertex c.
-  Far::Index opposite(Far::Index f, Far::Index c) const {
-    Far::ConstIndexArray fv = child->getFaceVertices(f);
-    int k = 0;
-    while (fv[k] != c) k++;
-    return fv[(k + 2) % 4];
-  }
-
   // The ends of child edge k of parent face f, and of child edge j of parent edge e.
   void face_edge_ends(int f, int k, int *ends) const {
     ends[0] = ref->getFaceChildVertex(f);
@@ -448,29 +440,31 @@ struct Rings {
 
   // Vertex c's edges (edges, and the far end of each in ei) and faces (the
   // corner opposite c in each in fi), as Far orders them; their counts.
+  // Child face l of a parent quad has at its corners l to l + 3 the points
+  // of the quad's vertex l, edge l, the quad itself and edge l - 1, so each
+  // opposite corner is a child point of the parent's.
   void ring(int c, int &ne, int &nf, Far::Index *edges, Far::Index *ei, Far::Index *fi) const {
     int p = ref->getChildVertexParentIndex(c);
     if (c >= ref->getFirstChildVertexFromVertices() &&
         c < ref->getFirstChildVertexFromVertices() + ref->getNumChildVerticesFromVertices()) {
       Far::ConstIndexArray pe = parent->getVertexEdges(p), pf = parent->getVertexFaces(p);
-      Far::ConstLocalIndexArray el = parent->getVertexEdgeLocalIndices(p),
-                                fl = parent->getVertexFaceLocalIndices(p);
+      Far::ConstLocalIndexArray el = parent->getVertexEdgeLocalIndices(p);
       ne = pe.size();
       nf = pf.size();
       for (int i = 0; i < ne; i++) {
         edges[i] = ref->getEdgeChildEdges(pe[i])[el[i]];
         ei[i] = ref->getEdgeChildVertex(pe[i]);
       }
-      for (int i = 0; i < nf; i++) fi[i] = opposite(ref->getFaceChildFaces(pf[i])[fl[i]], c);
+      for (int i = 0; i < nf; i++) fi[i] = ref->getFaceChildVertex(pf[i]);
     } else if (c >= ref->getFirstChildVertexFromFaces() &&
                c < ref->getFirstChildVertexFromFaces() + ref->getNumChildVerticesFromFaces()) {
-      Far::ConstIndexArray fe = parent->getFaceEdges(p), ce = ref->getFaceChildEdges(p),
-                           cf = ref->getFaceChildFaces(p);
+      Far::ConstIndexArray fe = parent->getFaceEdges(p), fv = parent->getFaceVertices(p),
+                           ce = ref->getFaceChildEdges(p);
       ne = nf = 4;
       for (int i = 0; i < 4; i++) {
         edges[i] = ce[(i + 3) % 4];
         ei[i] = ref->getEdgeChildVertex(fe[(i + 3) % 4]);
-        fi[i] = opposite(cf[i], c);
+        fi[i] = ref->getVertexChildVertex(fv[i]);
       }
     } else {
       Far::ConstIndexArray ef = parent->getEdgeFaces(p), ev = parent->getEdgeVertices(p),
@@ -480,13 +474,13 @@ struct Rings {
       ne = nf = 0;
       for (int i = 0; i < ef.size(); i++) {   // one or two faces
         int l = efl[i], end = i ? 1 - first : first;
-        Far::ConstIndexArray cf = ref->getFaceChildFaces(ef[i]);
+        Far::ConstIndexArray fe = parent->getFaceEdges(ef[i]);
         edges[ne] = ce[end];
         ei[ne++] = ref->getVertexChildVertex(ev[end]);
         edges[ne] = ref->getFaceChildEdges(ef[i])[l];
         ei[ne++] = ref->getFaceChildVertex(ef[i]);
-        fi[nf++] = opposite(cf[(l + 1) % 4], c);
-        fi[nf++] = opposite(cf[l], c);
+        fi[nf++] = ref->getEdgeChildVertex(fe[(l + 1) % 4]);   // in child face l + 1
+        fi[nf++] = ref->getEdgeChildVertex(fe[(l + 3) % 4]);   // in child face l
       }
       if (ef.size() == 1) {   // a boundary edge: its other child edge ends the ring
         edges[ne] = ce[1 - first];
