@@ -191,20 +191,6 @@ static void make_samples(Samples *sm, const LineRef *ref, int **sat) {
   free(at);
 }
 
-/* TileSat.block of sm's tiles. */
-static unsigned char *tile_blocks(const Samples *sm) {
-  int tw = sm->tw, th = sm->th;
-  unsigned char *b = xcalloc((size_t)tw * th + 1, 1);
-  for (int ty = 0; ty < th; ty++)
-    for (int tx = 0; tx < tw; tx++) {
-      if (sm->tile[ty * tw + tx] < 0) continue;
-      for (int dy = 0; dy < 2 && ty - dy >= 0; dy++)   /* the blocks that hold this tile */
-        for (int dx = 0; dx < 2 && tx - dx >= 0; dx++)
-          b[(ty - dy) * tw + tx - dx] |= (unsigned char)(1u << (dy * 2 + dx));
-    }
-  return b;
-}
-
 static void samples_free(Samples *sm) {
   free(sm->first); free(sm->tile); free(sm->row_start); free(sm->row_tx);
   free(sm->x); free(sm->y); free(sm->nr); free(sm->id); free(sm->step);
@@ -529,18 +515,16 @@ static void add_front(const Tester *ts, const LineVert *a, const LineVert *b, co
 /* No tile: a vertex that is not LineVert.in (its triangles are clipped). */
 #define NO_TILE 0xffffffffu
 
-/* The tile column and row (16 bits each) of each of m's vertices, clamped
-** to the image: those of a triangle's box are the least and greatest of
-** its corners'. */
-static uint32_t *vertex_tiles(const LineVert *v, int nverts, int w, int h, int bits) {
-  uint32_t *code = xmalloc(((size_t)nverts + 1) * sizeof *code);   /* every entry written below */
+/* The tile column and row (16 bits each) of vertices [k0, k1) of v into
+** code, clamped to the image: those of a triangle's box are the least and
+** greatest of its corners'. */
+static void vertex_tiles(uint32_t *code, const LineVert *v, int k0, int k1, int w, int h, int bits) {
   float xm = (float)(w - 1), ym = (float)(h - 1);
-  for (int k = 0; k < nverts; k++) {
+  for (int k = k0; k < k1; k++) {
     float x = v[k].x < 0 ? 0 : v[k].x > xm ? xm : v[k].x;
     float y = v[k].y < 0 ? 0 : v[k].y > ym ? ym : v[k].y;
     code[k] = v[k].in ? (uint32_t)((int)y >> bits) << 16 | (uint32_t)((int)x >> bits) : NO_TILE;
   }
-  return code;
 }
 
 /* Can a triangle with corner tiles a, b, c (vertex_tiles) be skipped
@@ -633,8 +617,9 @@ static void test_task(void *ctx, int k, int worker) {
   }
 }
 
-/* Nearest records for the samples of sm, starting at their own nearness. */
-static void nearest_init(Nearest *f, const Samples *sm) {
+/* Nearest records for the samples of sm, starting at their own nearness
+** (whose Nearest.floor is floor). */
+static void nearest_init(Nearest *f, const Samples *sm, const float *floor) {
   size_t n = (size_t)sm->n, nt = (size_t)sm->tw * sm->th;
   f->near = xmalloc((n + 1) * sizeof *f->near);
   f->off = xmalloc((n + 1) * sizeof *f->off);
@@ -642,7 +627,7 @@ static void nearest_init(Nearest *f, const Samples *sm) {
   f->floor = xmalloc((nt + 1) * sizeof *f->floor);
   memcpy(f->near, sm->nr, n * sizeof *f->near);
   for (size_t s = 0; s < n; s++) f->key[s] = NO_PIECE;
-  for (size_t t = 0; t < nt; t++) f->floor[t] = tile_floor(sm, f->near, (int)t);
+  memcpy(f->floor, floor, nt * sizeof *f->floor);
 }
 
 static void nearest_free(Nearest *f) {
@@ -665,26 +650,88 @@ static void nearest_merge(Nearest *f, int nw, int n) {
       }
 }
 
-/* Test every triangle of objs at the samples of sm (tiles m) on up to
-** threads workers: what was found into *f (nearest_free it). */
+/* What a set-up task makes: the codes of this many vertices (vertex_tiles),
+** or the tables of this many rows of tiles. */
+#define LINE_REF_TASK_VERTS 65536
+#define LINE_REF_TASK_ROWS 32
+
+/* What the triangles' test reads, made in tasks: first the vertex codes
+** of each object (task0[i] to task0[i + 1] for object i), then from task
+** task0[nobj] on, rows of tiles: their TileSat.block and their floor
+** (Nearest.floor at the samples' own nearness): the same whichever
+** thread makes which. */
+typedef struct SetupJob {
+  const LineEdges *edges;
+  const LineObject *objs;
+  const Samples *sm;
+  uint32_t **code;
+  int *task0;               /* nobj + 1 */
+  unsigned char *block;
+  float *floor;
+  int w, h;
+} SetupJob;
+
+static void setup_task(void *ctx, int k, int worker) {
+  SetupJob *j = ctx;
+  const Samples *sm = j->sm;
+  int nobj = j->edges->nobj;
+  if (k < j->task0[nobj]) {
+    int i = 0;
+    while (k >= j->task0[i + 1]) i++;
+    int k0 = (k - j->task0[i]) * LINE_REF_TASK_VERTS, nv = j->objs[i].mesh->nverts;
+    int k1 = k0 + LINE_REF_TASK_VERTS < nv ? k0 + LINE_REF_TASK_VERTS : nv;
+    vertex_tiles(j->code[i], j->edges->obj[i].vert, k0, k1, j->w, j->h, sm->bits);
+    return;
+  }
+  int tw = sm->tw, th = sm->th, ty0 = (k - j->task0[nobj]) * LINE_REF_TASK_ROWS;
+  int ty1 = ty0 + LINE_REF_TASK_ROWS < th ? ty0 + LINE_REF_TASK_ROWS : th;
+  for (int ty = ty0; ty < ty1; ty++) {
+    unsigned char *b = j->block + (size_t)ty * tw;   /* zeroed */
+    float *fl = j->floor + (size_t)ty * tw;
+    for (int tx = 0; tx < tw; tx++) fl[tx] = INFINITY;
+    for (int dy = 0; dy < 2 && ty + dy < th; dy++)   /* the tiles with samples in this row and the next */
+      for (int r = sm->row_start[ty + dy]; r < sm->row_start[ty + dy + 1]; r++) {
+        int tx = sm->row_tx[r];
+        b[tx] |= (unsigned char)(1u << dy * 2);
+        if (tx > 0) b[tx - 1] |= (unsigned char)(2u << dy * 2);
+        if (dy == 0) fl[tx] = tile_floor(sm, sm->nr, ty * tw + tx);
+      }
+  }
+}
+
+/* Test every triangle of objs at the samples of sm (summed-area table
+** sat) on up to threads workers: what was found into *f (nearest_free
+** it). */
 static void test_triangles(Nearest *f, const LineEdges *edges, const LineObject *objs, int w, int h,
-                           const Samples *sm, const TileSat *m, int threads) {
-  TestJob j = {edges, objs, sm, m, xcalloc((size_t)edges->nobj + 1, sizeof *j.code),
-               xcalloc((size_t)edges->nobj + 1, sizeof *j.task0), NULL, w, h};
+                           const Samples *sm, const int *sat, int threads) {
+  size_t nt = (size_t)sm->tw * sm->th;
+  TileSat m = {sm->tw, sm->th, sm->bits, sat, sm->tile, xcalloc(nt + 1, 1)};
+  SetupJob sj = {edges, objs, sm, xcalloc((size_t)edges->nobj + 1, sizeof *sj.code),
+                 xcalloc((size_t)edges->nobj + 1, sizeof *sj.task0), (unsigned char *)m.block,
+                 xmalloc((nt + 1) * sizeof *sj.floor), w, h};
+  TestJob j = {edges, objs, sm, &m, sj.code, xcalloc((size_t)edges->nobj + 1, sizeof *j.task0), NULL,
+               w, h};
   for (int i = 0; i < edges->nobj; i++) {
-    j.code[i] = vertex_tiles(edges->obj[i].vert, objs[i].mesh->nverts, w, h, m->bits);
+    int nv = objs[i].mesh->nverts;
+    sj.code[i] = xmalloc(((size_t)nv + 1) * sizeof *sj.code[i]);   /* every entry written by setup_task */
+    sj.task0[i + 1] = sj.task0[i] + (nv + LINE_REF_TASK_VERTS - 1) / LINE_REF_TASK_VERTS;
     j.task0[i + 1] = j.task0[i] + (objs[i].mesh->ntris + LINE_REF_TASK_TRIS - 1) / LINE_REF_TASK_TRIS;
   }
+  line_parallel(sj.task0[edges->nobj] + (sm->th + LINE_REF_TASK_ROWS - 1) / LINE_REF_TASK_ROWS, threads,
+                setup_task, &sj);
   int ntasks = j.task0[edges->nobj];
   int nw = threads < ntasks ? threads : ntasks > 0 ? ntasks : 1;
   j.found = xmalloc((size_t)nw * sizeof *j.found);
-  for (int k = 0; k < nw; k++) nearest_init(&j.found[k], sm);
+  for (int k = 0; k < nw; k++) nearest_init(&j.found[k], sm, sj.floor);
   line_parallel(ntasks, nw, test_task, &j);
   nearest_merge(j.found, nw, sm->n);
   *f = j.found[0];
   for (int k = 1; k < nw; k++) nearest_free(&j.found[k]);
   for (int i = 0; i < edges->nobj; i++) free(j.code[i]);
-  free(j.code);
+  free(sj.code);
+  free(sj.task0);
+  free(sj.floor);
+  free(sj.block);
   free(j.task0);
   free(j.found);
 }
@@ -754,13 +801,10 @@ int line_ref_build(LineRef *ref, const LineEdges *edges, const LineObject *objs,
   int *sat;
   make_samples(&sm, ref, &sat);
   if (sm.n) {
-    unsigned char *block = tile_blocks(&sm);
-    TileSat ts = {sm.tw, sm.th, sm.bits, sat, sm.tile, block};
     Nearest f;
-    test_triangles(&f, edges, objs, width, height, &sm, &ts, threads);
+    test_triangles(&f, edges, objs, width, height, &sm, sat, threads);
     decide(ref, edges, &sm, &f);
     nearest_free(&f);
-    free(block);
   }
   free(sat);
   samples_free(&sm);
