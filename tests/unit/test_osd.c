@@ -555,18 +555,23 @@ TEST(subdiv_errors) {
   CHECK(!subdiv_boundary_parse("sharp", &b));
 }
 
-TEST(subdiv_open_plane_boundary) {
-  /* A 3 x 3 grid of quads, open: edge_and_corner keeps its corners fixed. */
-  Vec3 v[16];
-  int start[10], index[36];
-  for (int j = 0; j < 4; j++)
-    for (int i = 0; i < 4; i++) v[4 * j + i] = v3(i, j, (i == 1 || i == 2) && (j == 1 || j == 2));
+/* The faces of a 3 x 3 grid of quads over 4 x 4 points, row by row. */
+static void grid_quads(int start[10], int index[36]) {
   for (int f = 0; f < 9; f++) {
     int b = 4 * (f / 3) + f % 3;
     start[f] = 4 * f;
     index[4 * f] = b; index[4 * f + 1] = b + 1; index[4 * f + 2] = b + 5; index[4 * f + 3] = b + 4;
   }
   start[9] = 36;
+}
+
+TEST(subdiv_open_plane_boundary) {
+  /* A 3 x 3 grid of quads, open: edge_and_corner keeps its corners fixed. */
+  Vec3 v[16];
+  int start[10], index[36];
+  for (int j = 0; j < 4; j++)
+    for (int i = 0; i < 4; i++) v[4 * j + i] = v3(i, j, (i == 1 || i == 2) && (j == 1 || j == 2));
+  grid_quads(start, index);
   SceneGeometry g;
   memset(&g, 0, sizeof g);
   g.kind = GEOM_MESH;
@@ -659,12 +664,7 @@ TEST(subdiv_points_are_far_points) {
   int start[10], index[36];
   for (int j = 0; j < 4; j++)
     for (int i = 0; i < 4; i++) v[4 * j + i] = v3(i + 0.1 * j, j, sin(i + 2.0 * j));
-  for (int f = 0; f < 9; f++) {
-    int b = 4 * (f / 3) + f % 3;
-    start[f] = 4 * f;
-    index[4 * f] = b; index[4 * f + 1] = b + 1; index[4 * f + 2] = b + 5; index[4 * f + 3] = b + 4;
-  }
-  start[9] = 36;
+  grid_quads(start, index);
   SceneGeometry grid;
   memset(&grid, 0, sizeof grid);
   grid.kind = GEOM_MESH;
