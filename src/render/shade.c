@@ -260,11 +260,16 @@ void shade_row_free(ShadeRow *r) { free(r->px); }
 /* A row's view rays: sample sx's is base + ((sx + 0.5) kx - cx) right. */
 typedef struct RayRow { float base[3], right[3], kx, cx; int sx0; } RayRow;
 
-static RayRow ray_row(const ShadeView *view, int sx0, int sy) {
-  RayRow rr = {.kx = view->kx, .cx = view->cx, .sx0 = sx0};
+/* Row sy's part of its view rays, along fwd and up. */
+static void ray_base(const ShadeView *view, int sy, float base[3]) {
   float ay = view->cy - ((float)sy + 0.5f) * view->ky;
+  for (int c = 0; c < 3; c++) base[c] = view->fwd[c] + ay * view->up[c];
+}
+
+static RayRow ray_row(const ShadeView *view, int sx0, const float base[3]) {
+  RayRow rr = {.kx = view->kx, .cx = view->cx, .sx0 = sx0};
   for (int c = 0; c < 3; c++) {
-    rr.base[c] = view->fwd[c] + ay * view->up[c];
+    rr.base[c] = base[c];
     rr.right[c] = view->right[c];
   }
   return rr;
@@ -273,8 +278,7 @@ static RayRow ray_row(const ShadeView *view, int sx0, int sy) {
 void shade_row_start(ShadeRow *r, const ShadeView *view, int sx0, int sy) {
   r->sx0 = sx0;
   r->sy = sy;
-  RayRow rr = ray_row(view, sx0, sy);
-  memcpy(r->ray_base, rr.base, sizeof r->ray_base);
+  ray_base(view, sy, r->ray_base);
 }
 
 static inline __attribute__((always_inline)) void rebuild_group(
@@ -331,9 +335,7 @@ void shade_row_rebuild(ShadeRow *r, const ShadeView *view, const RenderObject *o
   }
   float sign = o->backfacing[face] ? -1.0f : 1.0f;   /* a back face's normal turns around */
   const float *bary = r->bary[0];   /* (b1, b2) pairs, read flat */
-  RayRow rr = {.kx = view->kx, .cx = view->cx, .sx0 = r->sx0};   /* ray_row's, its base made once a row */
-  memcpy(rr.base, r->ray_base, sizeof rr.base);
-  memcpy(rr.right, view->right, sizeof rr.right);
+  RayRow rr = ray_row(view, r->sx0, r->ray_base);   /* its base made once a row */
   rebuild_run(c, &rr, sign, k0, k1, bary, r->px, r->py, r->pz, r->nx, r->ny, r->nz, r->vx,
               r->vy, r->vz);
   if (view->ortho)   /* the one unit view vector */
@@ -368,7 +370,9 @@ void shade_surface_at(const ShadeView *view, const RenderObject *o, int face, fl
   float sn = (nn > 0 ? 1 / sqrtf(nn) : 0) * (o->backfacing[face] ? -1.0f : 1.0f);
   n[0] *= sn; n[1] *= sn; n[2] *= sn;
   if (view->ortho) { v[0] = view->back[0]; v[1] = view->back[1]; v[2] = view->back[2]; return; }
-  RayRow rr = ray_row(view, sx, sy);   /* as rebuild_group makes it */
+  float base[3];
+  ray_base(view, sy, base);
+  RayRow rr = ray_row(view, sx, base);   /* as rebuild_group makes it */
   float ax = ((float)sx + 0.5f) * rr.kx - rr.cx;
   for (int c = 0; c < 3; c++) v[c] = rr.base[c] + ax * rr.right[c];
   float vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], sv = vv > 0 ? -1 / sqrtf(vv) : 0;
